@@ -1,0 +1,106 @@
+"""Pepper's joints, limits, controllers and rest centres: the one place that holds these facts.
+
+Numbers come from the Pepper URDF (limits, maximum velocities) and from the reference node's rest
+posture (centres).  Everything else in the package reads them from here.
+"""
+from collections import OrderedDict
+from typing import Dict, NamedTuple, Tuple
+
+
+class Joint(NamedTuple):
+    """One revolute joint (or a hand, which is unitless: 0 closed .. 1 open)."""
+
+    name: str
+    lower: float
+    upper: float
+    max_velocity: float
+
+    @property
+    def full_range(self) -> float:
+        return self.upper - self.lower
+
+
+class Part(NamedTuple):
+    """A group of joints driven by one FollowJointTrajectory controller."""
+
+    key: str  # key of the part in the topic files
+    label: str  # human-readable name, used in logs and reports
+    joints: Tuple[str, ...]  # every joint of the controller, in the order of the configuration ranges
+    centre: Tuple[float, ...]  # rest posture, the centre of the random motion, same order
+
+
+JOINTS: Dict[str, Joint] = OrderedDict(
+    (joint.name, joint)
+    for joint in (
+        Joint("LShoulderPitch", -2.08567, 2.08567, 7.33998),
+        Joint("LShoulderRoll", 0.00872665, 1.56207, 9.22756),
+        Joint("LElbowYaw", -2.08567, 2.08567, 7.33998),
+        Joint("LElbowRoll", -1.56207, -0.00872665, 9.22756),
+        Joint("LWristYaw", -1.82387, 1.82387, 17.3835),
+        Joint("LHand", 0.02, 0.98, 12.56),
+        Joint("RShoulderPitch", -2.08567, 2.08567, 7.33998),
+        Joint("RShoulderRoll", -1.56207, -0.00872665, 9.22756),
+        Joint("RElbowYaw", -2.08567, 2.08567, 7.33998),
+        Joint("RElbowRoll", 0.00872665, 1.56207, 9.22756),
+        Joint("RWristYaw", -1.82387, 1.82387, 17.3835),
+        Joint("RHand", 0.02, 0.98, 12.56),
+        Joint("HipRoll", -0.514872, 0.514872, 2.27032),
+        Joint("HipPitch", -1.03847, 1.03847, 2.93276),
+        Joint("KneePitch", -0.514872, 0.514872, 2.93276),
+        # Not animated (owned by the attention subsystem), but served by the simulated Pepper.
+        Joint("HeadYaw", -2.08567, 2.08567, 7.33998),
+        Joint("HeadPitch", -0.706858, 0.637045, 9.22756),
+    )
+)
+
+# Continuous wheel joints: published in /joint_states by the simulated Pepper, never commanded.
+WHEEL_JOINTS: Tuple[str, ...] = ("WheelFL", "WheelFR", "WheelB")
+
+PARTS: Dict[str, Part] = OrderedDict(
+    (part.key, part)
+    for part in (
+        Part("RArm", "right arm",
+             ("RShoulderPitch", "RShoulderRoll", "RElbowRoll", "RElbowYaw", "RWristYaw"),
+             (1.5410, -0.09664, 0.30664, 1.6981, -0.05679)),
+        Part("LArm", "left arm",
+             ("LShoulderPitch", "LShoulderRoll", "LElbowRoll", "LElbowYaw", "LWristYaw"),
+             (1.5625, 0.0997, -0.3434, -1.7150, 0.06592)),
+        Part("RHand", "right hand", ("RHand",), (0.66608,)),
+        Part("LHand", "left hand", ("LHand",), (0.6695,)),
+        Part("Leg", "leg", ("HipPitch", "HipRoll", "KneePitch"), (-0.1107, -0.00766, 0.03221)),
+    )
+)
+
+# The head's controller exists on both platforms; this package never drives it.
+HEAD_PART = Part("Head", "head", ("HeadYaw", "HeadPitch"), (0.0, 0.0))
+
+# Controller names on the robot and in Gazebo (<namespace>/<name>/follow_joint_trajectory).
+CONTROLLER_NAMES: Dict[str, str] = {
+    "RArm": "RightArm_controller",
+    "LArm": "LeftArm_controller",
+    "RHand": "RightHand_controller",
+    "LHand": "LeftHand_controller",
+    "Leg": "Pelvis_controller",
+    "Head": "Head_controller",
+}
+
+# Joint speeds are capped at this fraction of each joint's maximum (the robot's driver moves at 20 %).
+SPEED_FRACTION = 0.2
+
+# Base yaw (NAOqi move configuration): maximum angular velocity, and the default of moveTo.
+BASE_MAX_ANGULAR_VELOCITY = 2.0  # rad/s; rotMaximumRange is a fraction of this
+BASE_MOVETO_ANGULAR_VELOCITY = 1.0  # rad/s, the speed at which moveTo turns by default
+BASE_MOVETO_SETTLE_TIME = 1.0  # s the robot's driver sleeps after each moveTo
+# Gazebo's model-velocity plugin on /pepper/cmd_vel.
+BASE_VELOCITY_COMMAND_TIMEOUT = 0.5  # s without a message before the plugin zeroes the velocity
+BASE_MAX_ANGULAR_ACCELERATION = 2.4  # rad/s^2 the plugin allows
+
+
+def joint(name: str) -> Joint:
+    """The joint called `name`; a KeyError names unknown joints."""
+    return JOINTS[name]
+
+
+def speed_limit(name: str) -> float:
+    """The highest speed this package commands for a joint (rad/s, or unit/s for a hand)."""
+    return JOINTS[name].max_velocity * SPEED_FRACTION

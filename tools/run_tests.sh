@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# The whole test suite: installs what is missing, builds the workspace, then runs the static checks,
+# the unit tests (pytest) and the integration tests (rostest), and ends with `N passed, N failed`.
+# Exits non-zero when any test fails or does not run.
+set -uo pipefail
+source "$(dirname "$0")/common.sh"
+cd "$REPO_DIR"
+
+bash tools/setup.sh || exit 1
+bash tools/build.sh || exit 1
+source_workspace
+export ROS_HOME="$WORKSPACE_DIR/ros_home"
+export ROS_HOSTNAME=localhost
+rm -rf "$RESULTS_DIR"
+mkdir -p "$RESULTS_DIR/rostest" "$ROS_HOME"
+
+log_step "static checks"
+python3 tools/check_to_junit.py "$RESULTS_DIR/check-python38.xml" python38_compatibility -- \
+  "$WORKSPACE_DIR/venv/bin/vermin" -t=3.8- --violations --no-tips --eval-annotations \
+  src scripts test tools
+python3 tools/check_to_junit.py "$RESULTS_DIR/check-catkin-lint.xml" catkin_lint_strict -- \
+  catkin_lint --strict -W2 --pkg cssr_system
+
+log_step "unit tests (pytest)"
+python3 -m pytest test/unit -q -p no:cacheprovider --junitxml="$RESULTS_DIR/unit.xml"
+
+expected=(unit.xml check-python38.xml check-catkin-lint.xml)
+rostests=(test/*.test)
+if [ -e "${rostests[0]}" ]; then
+  log_step "integration tests (rostest, two at a time)"
+  printf '%s\n' "${rostests[@]}" | xargs -P 2 -I{} sh -c \
+    'rostest --results-base-dir "$1/rostest" cssr_system "$(basename "$2")" > "$1/rostest/$(basename "$2" .test).out" 2>&1 \
+       && echo "  $2: ok" || { echo "  $2: FAILED (output: $1/rostest/$(basename "$2" .test).out)"; tail -n 30 "$1/rostest/$(basename "$2" .test).out"; }' \
+    _ "$RESULTS_DIR" {}
+  for file in "${rostests[@]}"; do
+    expected+=("rostest-test_$(basename "$file" .test).xml")
+  done
+fi
+
+log_step "summary"
+expect_args=()
+for name in "${expected[@]}"; do expect_args+=(--expect "$name"); done
+python3 tools/summarise_results.py "$RESULTS_DIR" "${expect_args[@]}"
