@@ -1,0 +1,358 @@
+"""Unit tests of the event log: format, round trip, rotation, concurrency, default path."""
+import datetime
+import multiprocessing
+import os
+import re
+import threading
+import time
+
+import numpy
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from cssr_system import event_log
+from cssr_system.event_log import (
+    LOG_FILE_NAME,
+    EventLog,
+    LogEntry,
+    default_log_path,
+    format_log_line,
+    parse_log_line,
+    read_log,
+)
+
+LINE_PATTERN = re.compile(
+    r"\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}\.\d{3}[+-]\d{2}:\d{2} [a-z_]+ \{.*\}\n\Z")
+
+
+def lines_of(path):
+    with open(path, encoding="utf-8", newline="\n") as log_file:
+        return log_file.readlines()
+
+
+@pytest.fixture
+def local_zone(monkeypatch):
+    """Run with a known local time zone with a non-whole-hour offset (+05:30)."""
+    monkeypatch.setenv("TZ", "Asia/Kolkata")
+    time.tzset()
+    yield
+    monkeypatch.undo()
+    time.tzset()
+
+
+# --- format ------------------------------------------------------------------------------------
+
+def test_line_format_and_round_trip(tmp_path, local_zone):
+    moment = 1700000000.1239  # 2023-11-14T22:13:20.123 UTC
+    log = EventLog(str(tmp_path / "a.log"), clock=lambda: moment)
+    log.write("goal_sent", part="RArm", joints=("RShoulderPitch", "RElbowRoll"),
+              positions=[[0.1, 0.2], [0.30000000000000004, -1.5]], count=3, done=False,
+              note=None, nested={"bounds": (1.0, 2.0)})
+    log.close()
+    (line,) = lines_of(log.path)
+    assert LINE_PATTERN.match(line), line
+    assert line.startswith("2023-11-15T03:43:20.123+05:30 goal_sent {\"part\": \"RArm\", ")
+    entry = parse_log_line(line)
+    assert entry == LogEntry(
+        datetime.datetime(2023, 11, 15, 3, 43, 20, 123000,
+                          tzinfo=datetime.timezone(datetime.timedelta(hours=5, minutes=30))),
+        "goal_sent",
+        {"part": "RArm", "joints": ["RShoulderPitch", "RElbowRoll"],
+         "positions": [[0.1, 0.2], [0.30000000000000004, -1.5]], "count": 3, "done": False,
+         "note": None, "nested": {"bounds": [1.0, 2.0]}})
+    assert entry.timestamp.timestamp() == pytest.approx(1700000000.123, abs=1e-9)
+
+
+def test_numpy_and_sets_are_serialised_sensibly():
+    line = format_log_line("2026-11-21T17:03:04.123+00:00", "values", dict(
+        array=numpy.array([[1.5, 2.0], [3.25, -4.0]]),
+        float32=numpy.float32(0.5),
+        integer=numpy.int64(7),
+        flag=numpy.bool_(True),
+        joints=frozenset({"KneePitch", "HipRoll", "HipPitch"}),
+        numbers={3, 1, 2},
+        when=datetime.datetime(2026, 1, 2, 3, 4, 5),
+    ))
+    fields = parse_log_line(line).fields
+    assert fields == {"array": [[1.5, 2.0], [3.25, -4.0]], "float32": 0.5, "integer": 7,
+                      "flag": True, "joints": ["HipPitch", "HipRoll", "KneePitch"],
+                      "numbers": [1, 2, 3], "when": "2026-01-02T03:04:05"}
+    assert type(fields["integer"]) is int and type(fields["flag"]) is bool
+
+
+@pytest.mark.parametrize("fields, named", [
+    (dict(angle=float("nan")), "angle"),
+    (dict(positions=[0.0, float("inf")]), "positions[1]"),
+    (dict(array=numpy.array([0.0, numpy.nan])), "array[1]"),
+    (dict(centre={"RArm": (1.0, numpy.float64("nan"))}), "centre.RArm[1]"),
+])
+def test_nan_and_infinity_are_refused_naming_the_field(fields, named):
+    with pytest.raises(ValueError, match=re.escape(repr(named))):
+        format_log_line("2026-11-21T17:03:04.123+00:00", "bad", fields)
+
+
+@pytest.mark.parametrize("event", ["", "two words", "line\nbreak", 3])
+def test_event_names_must_be_one_word(event):
+    with pytest.raises(ValueError):
+        format_log_line("2026-11-21T17:03:04.123+00:00", event, {})
+
+
+json_values = st.recursive(
+    st.none() | st.booleans() | st.integers(-2 ** 62, 2 ** 62)
+    | st.floats(allow_nan=False, allow_infinity=False) | st.text(),
+    lambda children: st.lists(children, max_size=4)
+    | st.dictionaries(st.text(max_size=8), children, max_size=4),
+    max_leaves=12)
+
+
+@settings(max_examples=50, deadline=None)
+@given(event=st.from_regex(r"[a-z][a-z_]{0,20}", fullmatch=True),
+       fields=st.dictionaries(st.from_regex(r"[a-zA-Z_]\w{0,10}", fullmatch=True), json_values,
+                              max_size=6))
+def test_any_fields_round_trip(event, fields):
+    line = format_log_line("2026-11-21T17:03:04.123-03:00", event, fields)
+    assert line.count("\n") == 1 and line.endswith("\n")  # one line whatever the strings hold
+    entry = parse_log_line(line)
+    assert entry.event == event and entry.fields == fields
+
+
+@pytest.mark.parametrize("line", [
+    "",
+    "\n",
+    "2026-11-21T17:03:04.123+00:00 event_only",
+    "2026-11-21T17:03:04+00:00 no_milliseconds {}",
+    "2026-11-21T17:03:04.123 no_offset {}",
+    "2026-11-21 17:03:04.123+00:00 space_in_time {}",
+    "2026-13-21T17:03:04.123+00:00 bad_month {}",
+    "2026-11-21T17:03:04.123+00:00 not_json {\"a\": }",
+    "2026-11-21T17:03:04.123+00:00 not_an_object [1, 2]",
+    "2026-11-21T17:03:04.123+00:00 nan_field {\"a\": NaN}",
+    "2026-11-21T17:03:04.123+00:00  {}",
+])
+def test_malformed_lines_raise_one_line_errors(line):
+    with pytest.raises(ValueError) as error:
+        parse_log_line(line)
+    assert "\n" not in str(error.value) and "malformed log line" in str(error.value)
+
+
+# --- files ---------------------------------------------------------------------------------------
+
+def test_read_log_filters_by_time_and_names_bad_lines(tmp_path, local_zone):
+    now = [1800000000.0]
+    log = EventLog(str(tmp_path / "t.log"), clock=lambda: now[0])
+    for index in range(5):
+        log.write("tick", index=index)
+        now[0] += 1.0
+    log.close()
+    entries = read_log(log.path)
+    assert [entry.fields["index"] for entry in entries] == [0, 1, 2, 3, 4]
+    since = entries[2].timestamp
+    assert [entry.fields["index"] for entry in read_log(log.path, since=since)] == [2, 3, 4]
+    naive_local = since.replace(tzinfo=None)  # a naive `since` is local time
+    assert [entry.fields["index"] for entry in read_log(log.path, since=naive_local)] == [2, 3, 4]
+    with open(log.path, "a") as log_file:
+        log_file.write("garbage\n")
+    with pytest.raises(ValueError, match=r"t\.log:6: malformed"):
+        read_log(log.path)
+
+
+def test_missing_folders_are_created_and_lines_append(tmp_path):
+    path = tmp_path / "deep" / "er" / "x.log"
+    with EventLog(str(path)) as log:
+        log.write("first")
+    with EventLog(str(path)) as log:  # a second run appends
+        log.write("second", a=1)
+    assert [entry.event for entry in read_log(str(path))] == ["first", "second"]
+    assert read_log(str(path))[0].fields == {}
+
+
+def test_write_after_close_is_an_error(tmp_path):
+    log = EventLog(str(tmp_path / "c.log"))
+    log.close()
+    log.close()  # twice is harmless
+    with pytest.raises(ValueError):
+        log.write("late")
+
+
+def test_rotation_keeps_one_previous_file_and_loses_nothing_since(tmp_path):
+    path = str(tmp_path / "r.log")
+    max_bytes = 1000
+    log = EventLog(path, max_bytes=max_bytes)
+    for index in range(300):
+        log.write("line", index=index, padding="x" * (index % 17))
+    log.close()
+    assert sorted(os.listdir(str(tmp_path))) == ["r.log", "r.log.1"]
+    assert os.path.getsize(path) <= max_bytes and os.path.getsize(path + ".1") <= max_bytes
+    previous, current = read_log(path + ".1"), read_log(path)
+    indices = [entry.fields["index"] for entry in previous + current]
+    # The two files hold the newest lines, contiguous, ending with the last one written.
+    assert indices == list(range(300 - len(indices), 300))
+    assert len(previous) > 0 and len(current) > 0
+    # The previous file was full: its next line would not have fitted.
+    first_current_line = lines_of(path)[0].encode("utf-8")
+    assert os.path.getsize(path + ".1") + len(first_current_line) > max_bytes
+
+
+def test_a_line_longer_than_the_limit_still_goes_whole_into_a_new_file(tmp_path):
+    path = str(tmp_path / "big.log")
+    log = EventLog(path, max_bytes=100)
+    log.write("small")
+    log.write("big", text="y" * 500)
+    log.write("after")
+    log.close()
+    assert [entry.event for entry in read_log(path + ".1")] == ["big"]
+    assert [entry.event for entry in read_log(path)] == ["after"]
+
+
+def test_a_writer_follows_a_rotation_done_by_another_writer(tmp_path):
+    """Two EventLog objects on one path stand for two processes."""
+    path = str(tmp_path / "shared.log")
+    first, second = EventLog(path, max_bytes=600), EventLog(path, max_bytes=600)
+    second.write("second_before")
+    for index in range(20):  # enough to rotate
+        first.write("first", index=index)
+    assert os.path.exists(path + ".1")
+    second.write("second_after")  # its descriptor still names the rotated file
+    first.close()
+    second.close()
+    assert read_log(path)[-1].event == "second_after"
+    assert "second_after" not in [entry.event for entry in read_log(path + ".1")]
+
+
+def test_threads_never_interleave_lines(tmp_path):
+    path = str(tmp_path / "threads.log")
+    log = EventLog(path)
+    threads_count, lines_count = 8, 200
+
+    def writer(number):
+        for index in range(lines_count):
+            log.write("thread_line", thread=number, index=index, payload="z" * (index % 50))
+
+    threads = [threading.Thread(target=writer, args=(number,)) for number in range(threads_count)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    log.close()
+    entries = read_log(path)
+    assert len(entries) == threads_count * lines_count
+    for number in range(threads_count):
+        assert [entry.fields["index"] for entry in entries
+                if entry.fields["thread"] == number] == list(range(lines_count))
+
+
+def test_threads_with_rotation_keep_a_contiguous_tail_per_thread(tmp_path):
+    path = str(tmp_path / "rt.log")
+    log = EventLog(path, max_bytes=4000)
+
+    def writer(number):
+        for index in range(200):
+            log.write("thread_line", thread=number, index=index)
+
+    threads = [threading.Thread(target=writer, args=(number,)) for number in range(8)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    log.close()
+    assert sorted(os.listdir(str(tmp_path))) == ["rt.log", "rt.log.1"]
+    entries = read_log(path + ".1") + read_log(path)
+    for number in range(8):
+        indices = [entry.fields["index"] for entry in entries if entry.fields["thread"] == number]
+        assert indices == list(range(200 - len(indices), 200))
+
+
+def _process_writer(path, number, lines_count, max_bytes, start):
+    log = EventLog(path, max_bytes=max_bytes)
+    start.wait(10)  # all writers begin together, so their lines really compete
+    for index in range(lines_count):
+        log.write("process_line", process=number, index=index, payload="p" * (index % 40))
+    log.close()
+
+
+def _run_processes(path, processes_count, lines_count, max_bytes):
+    context = multiprocessing.get_context("fork")
+    start = context.Event()
+    processes = [context.Process(target=_process_writer,
+                                 args=(path, number, lines_count, max_bytes, start))
+                 for number in range(processes_count)]
+    for process in processes:
+        process.start()
+    start.set()
+    for process in processes:
+        process.join(20)
+        assert process.exitcode == 0
+
+
+def test_processes_never_interleave_lines(tmp_path):
+    path = str(tmp_path / "processes.log")
+    _run_processes(path, 2, 500, event_log.DEFAULT_MAX_BYTES)
+    entries = read_log(path)  # every line parses: nothing torn
+    assert len(entries) == 2 * 500
+    for number in range(2):
+        assert [entry.fields["index"] for entry in entries
+                if entry.fields["process"] == number] == list(range(500))
+
+
+def test_processes_rotating_together_leave_whole_lines_in_two_files(tmp_path):
+    path = str(tmp_path / "prot.log")
+    _run_processes(path, 2, 500, 5000)
+    assert sorted(os.listdir(str(tmp_path))) == ["prot.log", "prot.log.1"]
+    entries = read_log(path + ".1") + read_log(path)
+    keys = [(entry.fields["process"], entry.fields["index"]) for entry in entries]
+    assert len(keys) == len(set(keys))  # no line written twice
+    for number in range(2):  # each writer's lines keep their order across the two files
+        indices = [index for process, index in keys if process == number]
+        assert indices == sorted(indices)
+    assert keys[-1][1] == 499  # the newest line is in the current file
+
+
+# --- default path ----------------------------------------------------------------------------------
+
+def test_default_path_is_the_package_data_folder(tmp_path):
+    (tmp_path / "data").mkdir()
+    assert default_log_path(str(tmp_path), "/ros/home") == str(tmp_path / "data" / LOG_FILE_NAME)
+
+
+def test_default_path_when_the_data_folder_does_not_exist_yet(tmp_path):
+    assert default_log_path(str(tmp_path), None) == str(tmp_path / "data" / LOG_FILE_NAME)
+
+
+def test_default_path_falls_back_to_ros_home_when_data_is_not_writable(tmp_path, monkeypatch):
+    data = tmp_path / "data"
+    data.mkdir()
+    real_access = os.access
+
+    def access(path, mode):
+        if os.path.abspath(path) == str(data) and mode & os.W_OK:
+            return False
+        return real_access(path, mode)
+
+    monkeypatch.setattr(os, "access", access)
+    assert default_log_path(str(tmp_path), "/ros/home") == os.path.join("/ros/home", LOG_FILE_NAME)
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))
+    for no_ros_home in (None, ""):
+        assert default_log_path(str(tmp_path), no_ros_home) == \
+            str(tmp_path / "home" / ".ros" / LOG_FILE_NAME)
+
+
+def test_default_path_falls_back_when_the_log_file_is_not_writable(tmp_path, monkeypatch):
+    data = tmp_path / "data"
+    data.mkdir()
+    (data / LOG_FILE_NAME).write_text("")
+    real_access = os.access
+    monkeypatch.setattr(os, "access", lambda path, mode: False
+                        if os.path.basename(str(path)) == LOG_FILE_NAME else real_access(path, mode))
+    assert default_log_path(str(tmp_path), "/r") == os.path.join("/r", LOG_FILE_NAME)
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root may write into a read-only folder")
+def test_default_path_with_a_really_read_only_folder(tmp_path):
+    data = tmp_path / "data"
+    data.mkdir()
+    data.chmod(0o555)
+    try:
+        assert default_log_path(str(tmp_path), "/r") == os.path.join("/r", LOG_FILE_NAME)
+    finally:
+        data.chmod(0o755)
