@@ -1,7 +1,11 @@
 # The two commands of the README, and the steps they are made of.
 .PHONY: demo test setup build clean
 
+# make demo DURATION=10 PLATFORM=simulator, or DEMO_DURATION / DEMO_PLATFORM in the environment
+# (the short names only from the command line: environments often hold an unrelated PLATFORM).
 demo:
+	DEMO_DURATION="$(if $(filter command line,$(origin DURATION)),$(DURATION),$(DEMO_DURATION))" \
+	DEMO_PLATFORM="$(if $(filter command line,$(origin PLATFORM)),$(PLATFORM),$(DEMO_PLATFORM))" \
 	bash tools/demo.sh
 
 test:
@@ -14,4 +18,4 @@ build: setup
 	bash tools/build.sh
 
 clean:
-	rm -rf .workspace
+	bash -c 'source tools/common.sh && rm -rf "$$WORKSPACE_DIR"'

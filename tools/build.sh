@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Builds the private catkin workspace .workspace/ with this package (and, where the system has no
+# Builds the private catkin workspace of this clone (WORKSPACE_DIR, tools/common.sh) with this
+# package (and, where the system has no
 # control_msgs, the package's own minimal control_msgs). Run tools/setup.sh first.
 set -euo pipefail
 source "$(dirname "$0")/common.sh"

@@ -1,9 +1,12 @@
 # Shared settings of the set-up, build, test and demo scripts (sourced, not run).
-# Puts the system Python first (a pyenv or virtualenv python3 has no rospy), points ROS at a private
-# workspace inside the repository, and sources ROS Noetic where it is installed.
+# Puts the system Python first (a pyenv or virtualenv python3 has no rospy), names the private
+# catkin workspace of this clone, and sources ROS Noetic where it is installed.
 
 REPO_DIR=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-WORKSPACE_DIR="$REPO_DIR/.workspace"
+# The workspace lives outside the package: ROS tools search a package's folder for executables,
+# and would find the workspace's build copies (and loop through its link back to the package).
+# One workspace per clone, so two clones never share a build.
+WORKSPACE_DIR="${CSSR_WORKSPACE:-${XDG_CACHE_HOME:-$HOME/.cache}/cssr_system/workspace-$(printf '%s' "$REPO_DIR" | md5sum | cut -c1-8)}"
 RESULTS_DIR="$WORKSPACE_DIR/test_results"
 NOETIC_SETUP=/opt/ros/noetic/setup.bash
 
@@ -11,9 +14,7 @@ export PYENV_VERSION=system
 export PATH="/usr/bin:/bin:$PATH"
 export PYTHONDONTWRITEBYTECODE=1
 if [ -f "$NOETIC_SETUP" ] && [ -z "${ROS_DISTRO:-}" ]; then
-  set +u
-  # shellcheck disable=SC1090
-  source "$NOETIC_SETUP"
+  case $- in *u*) set +u; source "$NOETIC_SETUP"; set -u ;; *) source "$NOETIC_SETUP" ;; esac
 fi
 
 log_step() { printf '\n==> %s\n' "$*"; }
