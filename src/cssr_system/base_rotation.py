@@ -86,6 +86,7 @@ class RotationStep(NamedTuple):
     period: float  # s between samples (VELOCITY); 0.0 for RELATIVE (one message, no samples)
     duration: float  # s the step occupies, including settle and pause, before the next may start
     target_heading: float  # rad, heading after the step in the planner's frame
+    busy_time: float  # s the robot is executing the step (turn, settle); the rest is our pause
 
 
 def raised_cosine_velocities(angle: float, sample_count: int, period: float) -> Tuple[float, ...]:
@@ -191,15 +192,16 @@ class BaseRotationPlanner:
     def _step_to(self, target: float, pause: float, stretch: float) -> RotationStep:
         angle = target - self._heading
         if self.kind == RELATIVE:
-            duration = abs(angle) / BASE_MOVETO_ANGULAR_VELOCITY + BASE_MOVETO_SETTLE_TIME + pause
-            step = RotationStep(RELATIVE, angle, (), 0.0, duration, target)
+            busy_time = abs(angle) / BASE_MOVETO_ANGULAR_VELOCITY + BASE_MOVETO_SETTLE_TIME
+            step = RotationStep(RELATIVE, angle, (), 0.0, busy_time + pause, target, busy_time)
         else:
             motion_time = self._shortest_motion_time(abs(angle)) * stretch
             # One sample per period; the last (zero) sample ends the bump at n * period >= time.
             sample_count = max(2, int(math.ceil(motion_time / self.period - 1e-9)))
             velocities = raised_cosine_velocities(angle, sample_count, self.period)
-            duration = sample_count * self.period + pause
-            step = RotationStep(VELOCITY, angle, velocities, self.period, duration, target)
+            busy_time = sample_count * self.period
+            step = RotationStep(VELOCITY, angle, velocities, self.period, busy_time + pause, target,
+                                busy_time)
         self._heading = target
         return step
 

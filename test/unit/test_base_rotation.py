@@ -12,6 +12,7 @@ from cssr_system.base_rotation import (
     MIN_TURN,
     RELATIVE,
     RETURN_TOLERANCE,
+    RETURN_TOLERANCE,
     VELOCITY,
     BaseRotationPlanner,
     RotationStep,
@@ -50,6 +51,9 @@ def check_velocity_step(step: RotationStep, rot_maximum_range: float) -> None:
     # One direction only: a smooth bump, no reversal.
     assert numpy.all(samples * math.copysign(1.0, step.angle) >= 0.0)
     assert step.duration >= len(samples) * step.period - ROUNDING
+    # The robot is busy while samples are streamed; anything after that is a pause.
+    assert step.busy_time == pytest.approx(len(samples) * step.period)
+    assert step.busy_time <= step.duration
 
 
 def check_relative_step(step: RotationStep) -> None:
@@ -57,6 +61,10 @@ def check_relative_step(step: RotationStep) -> None:
     assert step.velocities == ()
     assert step.angle != 0.0
     assert step.duration >= abs(step.angle) / BASE_MOVETO_ANGULAR_VELOCITY + BASE_MOVETO_SETTLE_TIME
+    # The driver turns then sleeps: the robot is busy that long, and will drop anything sent then.
+    assert step.busy_time == pytest.approx(
+        abs(step.angle) / BASE_MOVETO_ANGULAR_VELOCITY + BASE_MOVETO_SETTLE_TIME)
+    assert step.busy_time <= step.duration
 
 
 # --- wheels_command_kind ---------------------------------------------------------------------
@@ -167,7 +175,9 @@ def test_every_step_keeps_its_promises(seed, rot_range, bound, sample_rate, kind
     if home is not None:
         (check_velocity_step(home, rot_range) if kind == VELOCITY else check_relative_step(home))
         assert home.target_heading == 0.0
-    assert rotation.heading == 0.0
+        assert rotation.heading == 0.0
+    else:  # already home, to within the tolerance below which no turn is sent
+        assert abs(rotation.heading) < RETURN_TOLERANCE
 
 
 # --- odometry feedback and the way home -------------------------------------------------------
