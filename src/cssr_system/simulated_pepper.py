@@ -1,0 +1,526 @@
+"""A kinematic Pepper: controller semantics and base kinematics, with no ROS communication.
+
+scripts/simulatedPepper.py serves this model on the ROS interfaces of the robot (naoqi_dcm_driver,
+``/pepper_dcm``) or of the Gazebo simulator (``/pepper``).  Every method takes the current time
+explicitly (seconds, any fixed origin), so the model is stepped and tested without a clock.
+
+Joint controllers (`SimulatedController`) mirror ros_controllers' joint_trajectory_controller:
+
+- a goal must name exactly the controller's joints, in any order (else INVALID_JOINTS); every point
+  carries one position per joint, velocities and accelerations are empty or one per joint, times
+  strictly increase and every value is finite (else INVALID_GOAL);
+- an empty trajectory (that names the joints) stops: hold the current position, accept, succeed;
+- the trajectory starts at its stamp, or now when the stamp is None (a zero header stamp); points
+  at or before the start are dropped, and a goal left with no point is rejected (INVALID_GOAL);
+- the first segment starts from the current desired state (position, velocity, acceleration), so a
+  new goal is spliced smoothly onto the running motion; it preempts the active goal at once, and
+  with a future stamp the old motion continues until the new one starts;
+- cancel holds the current position with zero velocity (instant stop);
+- the goal succeeds when its last point's time has come (a kinematic robot has no tracking error).
+- Joint limits: positions beyond the URDF limits are clamped (points at acceptance, and the sampled
+  state, where a clamped joint has zero velocity and acceleration); each point value beyond a limit
+  is reported as a `LimitViolation` and counted in `limit_violation_count`.
+
+Base (`MoveToBase`, `VelocityBase`): see their docstrings.  The heading is unwrapped (radians,
+counter-clockwise positive) and the base never translates.
+"""
+import math
+from collections import OrderedDict
+from typing import Any, Dict, List, NamedTuple, Optional, Sequence, Tuple
+
+import numpy
+
+from .joint_table import (
+    BASE_MAX_ANGULAR_ACCELERATION,
+    BASE_MAX_ANGULAR_VELOCITY,
+    BASE_MOVETO_ANGULAR_VELOCITY,
+    BASE_MOVETO_SETTLE_TIME,
+    BASE_VELOCITY_COMMAND_TIMEOUT,
+    CONTROLLER_NAMES,
+    HEAD_PART,
+    JOINTS,
+    PARTS,
+    WHEEL_JOINTS,
+    Part,
+)
+from .trajectory_interpolation import JointTrajectorySpline, TrajectoryError, TrajectoryPoint
+
+# control_msgs/FollowJointTrajectoryResult error codes.
+SUCCESSFUL = 0
+INVALID_GOAL = -1
+INVALID_JOINTS = -2
+
+# Base command kinds.
+RELATIVE, VELOCITY = "relative", "velocity"
+
+
+class Platform(NamedTuple):
+    """The ROS interface served: namespace, controllers (part keys) and the base topic."""
+
+    name: str
+    namespace: str
+    controller_keys: Tuple[str, ...]  # keys of PARTS, or HEAD_PART.key
+    base_topic: str  # relative to the namespace
+    base_kind: str  # RELATIVE or VELOCITY
+
+
+PLATFORMS: Dict[str, Platform] = OrderedDict(
+    (platform.name, platform)
+    for platform in (
+        Platform("robot", "/pepper_dcm", ("RArm", "LArm", "RHand", "LHand", "Leg", HEAD_PART.key),
+                 "cmd_moveto", RELATIVE),
+        Platform("simulator", "/pepper", ("RArm", "LArm", "Leg", HEAD_PART.key), "cmd_vel", VELOCITY),
+    )
+)
+
+POSTURES = ("rest", "zero")
+
+
+def part(key: str) -> Part:
+    """The part of a controller key (PARTS, or the head)."""
+    return HEAD_PART if key == HEAD_PART.key else PARTS[key]
+
+
+def action_namespace(platform: Platform, key: str) -> str:
+    """The FollowJointTrajectory action namespace of a controller on a platform."""
+    return "{}/{}/follow_joint_trajectory".format(platform.namespace, CONTROLLER_NAMES[key])
+
+
+def base_topic(platform: Platform) -> str:
+    return "{}/{}".format(platform.namespace, platform.base_topic)
+
+
+def odometry_topic(platform: Platform) -> str:
+    return "{}/odom".format(platform.namespace)
+
+
+def posture(key: str, name: str = "rest") -> Tuple[float, ...]:
+    """Initial positions of a part: its centre ("rest") or the URDF zero clamped into the limits."""
+    if name == "rest":
+        return tuple(part(key).centre)
+    if name == "zero":
+        return tuple(min(max(0.0, JOINTS[joint].lower), JOINTS[joint].upper) for joint in part(key).joints)
+    raise ValueError("unknown posture {!r} (expected one of: {})".format(name, ", ".join(POSTURES)))
+
+
+class JointTrajectoryState(NamedTuple):
+    """Desired (= actual: the robot is kinematic) state of a controller's joints, controller order."""
+
+    positions: numpy.ndarray
+    velocities: numpy.ndarray
+    accelerations: numpy.ndarray
+
+
+class GoalPoint(NamedTuple):
+    """One point of a goal: time from the trajectory start; velocities/accelerations may be empty."""
+
+    time_from_start: float
+    positions: Sequence[float]
+    velocities: Sequence[float] = ()
+    accelerations: Sequence[float] = ()
+
+
+class LimitViolation(NamedTuple):
+    joint: str
+    value: float  # the position asked for
+    limit: float  # the limit it crossed (the position executed)
+    point_index: int  # index of the point in the goal
+
+
+class Acceptance(NamedTuple):
+    """The answer to a goal. When rejected, nothing changed."""
+
+    accepted: bool
+    error_code: int
+    error_string: str
+    preempted_goal: Any = None  # the goal that was active and is now preempted, or None
+    limit_violations: Tuple[LimitViolation, ...] = ()
+
+
+class GoalOutcome(NamedTuple):
+    """A goal that ended by itself (succeeded)."""
+
+    goal: Any
+    error_code: int
+    error_string: str
+
+
+class _Hold:
+    """Stand still at `positions` (zero velocity, zero acceleration) from start_time on."""
+
+    def __init__(self, positions: numpy.ndarray, start_time: float) -> None:
+        self._state = (numpy.array(positions, dtype=float), numpy.zeros(len(positions)),
+                       numpy.zeros(len(positions)))
+        self.end_time = start_time
+
+    def sample(self, t: float):
+        return self._state
+
+
+class SimulatedController:
+    """One FollowJointTrajectory controller (module docstring); goals are opaque tokens compared by ==."""
+
+    def __init__(self, name: str, joint_names: Sequence[str], initial_positions: Sequence[float],
+                 now: float = 0.0) -> None:
+        if len(joint_names) != len(initial_positions):
+            raise ValueError("{}: {} joints but {} initial positions".format(
+                name, len(joint_names), len(initial_positions)))
+        self.name = name
+        self.joint_names: Tuple[str, ...] = tuple(joint_names)
+        self._index = {joint: index for index, joint in enumerate(self.joint_names)}
+        self._lower = numpy.array([JOINTS[joint].lower for joint in self.joint_names])
+        self._upper = numpy.array([JOINTS[joint].upper for joint in self.joint_names])
+        start = numpy.clip(numpy.array(initial_positions, dtype=float), self._lower, self._upper)
+        # The desired motion: (switch time, sampler) pieces, the last piece whose time has come rules.
+        self._pieces: List[Tuple[float, Any]] = [(now, _Hold(start, now))]
+        self.active_goal: Any = None
+        self._goal_end_time = now
+        self.limit_violation_count = 0
+
+    # -- state -------------------------------------------------------------------------------
+    def state(self, now: float) -> JointTrajectoryState:
+        """The desired state at `now`, clamped into the joint limits (a clamped joint is still)."""
+        sampler = self._pieces[0][1]
+        for switch_time, candidate in self._pieces:
+            if switch_time <= now:
+                sampler = candidate
+        positions, velocities, accelerations = sampler.sample(now)
+        positions = numpy.array(positions, dtype=float)
+        velocities = numpy.zeros(len(positions)) if velocities is None else numpy.array(velocities, dtype=float)
+        accelerations = (numpy.zeros(len(positions)) if accelerations is None
+                         else numpy.array(accelerations, dtype=float))
+        clamped = (positions < self._lower) | (positions > self._upper)
+        if clamped.any():
+            positions = numpy.clip(positions, self._lower, self._upper)
+            velocities[clamped] = 0.0
+            accelerations[clamped] = 0.0
+        return JointTrajectoryState(positions, velocities, accelerations)
+
+    @property
+    def goal_end_time(self) -> Optional[float]:
+        """When the active goal will succeed, or None without an active goal."""
+        return self._goal_end_time if self.active_goal is not None else None
+
+    # -- goals ---------------------------------------------------------------------------------
+    def validate(self, joint_names: Sequence[str], points: Sequence[GoalPoint]) -> Tuple[int, str]:
+        """(SUCCESSFUL, "") or the error code and text that reject this trajectory."""
+        names = list(joint_names)
+        if len(names) != len(self.joint_names) or set(names) != set(self.joint_names):
+            missing = [joint for joint in self.joint_names if joint not in names]
+            extra = sorted(set(joint for joint in names if joint not in self._index))
+            duplicated = sorted(set(joint for joint in names if names.count(joint) > 1))
+            problems = []
+            if missing:
+                problems.append("missing " + ", ".join(missing))
+            if extra:
+                problems.append("unknown " + ", ".join(extra))
+            if duplicated:
+                problems.append("repeated " + ", ".join(duplicated))
+            return INVALID_JOINTS, "{}: joints must be exactly {} ({})".format(
+                self.name, ", ".join(self.joint_names), "; ".join(problems))
+        size = len(self.joint_names)
+        previous_time = None
+        for index, point in enumerate(points):
+            if len(point.positions) != size:
+                return INVALID_GOAL, "{}: point {} has {} positions, expected {}".format(
+                    self.name, index, len(point.positions), size)
+            for field in ("velocities", "accelerations"):
+                values = getattr(point, field) or ()
+                if len(values) not in (0, size):
+                    return INVALID_GOAL, "{}: point {} has {} {}, expected 0 or {}".format(
+                        self.name, index, len(values), field, size)
+            values = list(point.positions) + list(point.velocities or ()) + list(point.accelerations or ())
+            if not all(math.isfinite(value) for value in values + [point.time_from_start]):
+                return INVALID_GOAL, "{}: point {} holds a value that is not finite".format(self.name, index)
+            if previous_time is not None and not point.time_from_start > previous_time:
+                return INVALID_GOAL, ("{}: time_from_start must increase strictly: point {} at {:.6g} s "
+                                      "follows {:.6g} s").format(self.name, index, point.time_from_start,
+                                                                 previous_time)
+            previous_time = point.time_from_start
+        return SUCCESSFUL, ""
+
+    def submit(self, goal: Any, joint_names: Sequence[str], points: Sequence[GoalPoint], now: float,
+               stamp: Optional[float] = None) -> Acceptance:
+        """Accept `goal` (it becomes the active goal, preempting the previous one) or reject it."""
+        error_code, error_string = self.validate(joint_names, points)
+        if error_code != SUCCESSFUL:
+            return Acceptance(False, error_code, error_string)
+        start_time = now if stamp is None else max(stamp, now)
+        if not points:  # the controller's "stop" command
+            self._replace_from(now, _Hold(self.state(now).positions, now))
+            return self._activate(goal, now, ())
+        trajectory_start = now if stamp is None else stamp
+        order = [list(joint_names).index(joint) for joint in self.joint_names]
+        kept = [(index, point) for index, point in enumerate(points)
+                if trajectory_start + point.time_from_start > start_time]
+        if not kept:
+            return Acceptance(False, INVALID_GOAL, (
+                "{}: all {} point(s) are at or before the start time (last point {:.3f} s before it)").format(
+                self.name, len(points),
+                start_time - trajectory_start - points[-1].time_from_start))
+        violations: List[LimitViolation] = []
+        spline_points = []
+        for index, point in kept:
+            positions = numpy.array([point.positions[i] for i in order], dtype=float)
+            for joint_index, value in enumerate(positions):
+                lower, upper = self._lower[joint_index], self._upper[joint_index]
+                if value < lower or value > upper:
+                    violations.append(LimitViolation(self.joint_names[joint_index], float(value),
+                                                     float(lower if value < lower else upper), index))
+            positions = numpy.clip(positions, self._lower, self._upper)
+            velocities = [point.velocities[i] for i in order] if len(point.velocities or ()) else None
+            accelerations = [point.accelerations[i] for i in order] if len(point.accelerations or ()) else None
+            # The spline counts time from start_time, which may be later than the trajectory's start.
+            spline_points.append(TrajectoryPoint(trajectory_start + point.time_from_start - start_time,
+                                                 positions, velocities, accelerations))
+        start = self.state(start_time)
+        try:
+            spline = JointTrajectorySpline(start.positions, start.velocities, start.accelerations, spline_points,
+                                           start_time=start_time)
+        except TrajectoryError as error:  # not expected after validate(); still the controller's answer
+            return Acceptance(False, INVALID_GOAL, "{}: {}".format(self.name, error))
+        self._replace_from(start_time, spline, now)
+        self.limit_violation_count += len(violations)
+        return self._activate(goal, spline.end_time, tuple(violations))
+
+    def cancel(self, goal: Any, now: float) -> bool:
+        """Stop at once if `goal` is the active goal (True); anything else changes nothing (False)."""
+        if self.active_goal is None or not self.active_goal == goal:
+            return False
+        self._replace_from(now, _Hold(self.state(now).positions, now))
+        self.active_goal = None
+        return True
+
+    def update(self, now: float) -> Optional[GoalOutcome]:
+        """The active goal's success when its end has come, else None."""
+        self._prune(now)
+        if self.active_goal is not None and now >= self._goal_end_time:
+            outcome = GoalOutcome(self.active_goal, SUCCESSFUL, "")
+            self.active_goal = None
+            return outcome
+        return None
+
+    def _activate(self, goal: Any, end_time: float, violations: Tuple[LimitViolation, ...]) -> Acceptance:
+        preempted, self.active_goal, self._goal_end_time = self.active_goal, goal, end_time
+        return Acceptance(True, SUCCESSFUL, "", preempted, violations)
+
+    def _replace_from(self, switch_time: float, sampler: Any, now: Optional[float] = None) -> None:
+        """Run `sampler` from switch_time on, dropping whatever was planned from then."""
+        self._pieces = [piece for piece in self._pieces if piece[0] < switch_time] + [(switch_time, sampler)]
+        self._prune(switch_time if now is None else now)
+
+    def _prune(self, now: float) -> None:
+        """Forget pieces that can never rule again (all but the latest one already started)."""
+        started = [index for index, piece in enumerate(self._pieces) if piece[0] <= now]
+        if len(started) > 1:
+            del self._pieces[:started[-1]]
+        switch_time, sampler = self._pieces[0]
+        if started and not isinstance(sampler, _Hold) and now > sampler.end_time:
+            # Past its end a spline holds its last positions: the same, without sampling it every tick.
+            self._pieces[0] = (switch_time, _Hold(sampler.sample(now)[0], sampler.end_time))
+
+
+class BaseState(NamedTuple):
+    heading: float  # rad, unwrapped, counter-clockwise positive
+    angular_velocity: float  # rad/s
+
+
+class MoveToBase:
+    """The robot's ``cmd_moveto``: each command is a RELATIVE turn by `theta` radians.
+
+    naoqi_dcm_driver calls the blocking ALMotion moveTo, then sleeps: the turn runs at
+    `angular_velocity` (constant speed, instant start and stop), so it lasts |theta| / angular_velocity,
+    then the base is busy for `settle_time` more.  Commands arriving while busy are dropped (the
+    default), or, with keep_latest, the latest of them waits and starts when the settle time ends (what a
+    roscpp subscriber queue of one does when its callback blocks).  A command with theta 0 is a no-op and
+    does not make the base busy.  linear.x and linear.y are not simulated (the base never translates).
+    """
+
+    def __init__(self, heading: float = 0.0, now: float = 0.0,
+                 angular_velocity: float = BASE_MOVETO_ANGULAR_VELOCITY,
+                 settle_time: float = BASE_MOVETO_SETTLE_TIME, keep_latest: bool = False) -> None:
+        self.angular_velocity = angular_velocity
+        self.settle_time = settle_time
+        self.keep_latest = keep_latest
+        self._start_heading = heading
+        self._turn_start = now
+        self._angle = 0.0
+        self._pending: Optional[float] = None
+        self._busy_until = now
+        self.executed = 0  # turns started
+        self.dropped = 0  # commands dropped because the base was busy (or replaced while pending)
+
+    @property
+    def _turn_duration(self) -> float:
+        return abs(self._angle) / self.angular_velocity
+
+    @property
+    def busy_until(self) -> float:
+        """End of the current turn and its settle time (in the past when idle)."""
+        return self._busy_until
+
+    def command(self, x: float, y: float, theta: float, now: float) -> str:
+        """Handle one Twist: "turning", "queued", "dropped", "no-op" or "invalid" (not finite)."""
+        if not all(math.isfinite(value) for value in (x, y, theta)):
+            return "invalid"
+        self._advance(now)
+        if theta == 0.0:
+            return "no-op"
+        if now < self.busy_until:
+            if not self.keep_latest:
+                self.dropped += 1
+                return "dropped"
+            if self._pending is not None:
+                self.dropped += 1
+            self._pending = theta
+            return "queued"
+        self._start_turn(theta, now)
+        return "turning"
+
+    def state(self, now: float) -> BaseState:
+        self._advance(now)
+        elapsed = now - self._turn_start
+        if elapsed < 0.0:
+            return BaseState(self._start_heading, 0.0)
+        if elapsed < self._turn_duration:
+            speed = math.copysign(self.angular_velocity, self._angle)
+            return BaseState(self._start_heading + speed * elapsed, speed)
+        return BaseState(self._start_heading + self._angle, 0.0)
+
+    def _start_turn(self, theta: float, start: float) -> None:
+        self._start_heading += self._angle
+        self._turn_start, self._angle = start, theta
+        self._busy_until = start + self._turn_duration + self.settle_time
+        self.executed += 1
+
+    def _advance(self, now: float) -> None:
+        """Start the pending turn if the base became free by `now` (at the exact moment it did)."""
+        if self._pending is not None and now >= self.busy_until:
+            theta, self._pending = self._pending, None
+            self._start_turn(theta, self.busy_until)
+
+
+class VelocityBase:
+    """The simulator's ``cmd_vel``: angular.z is a target angular velocity (Gazebo's plugin).
+
+    The target is clipped to +-max_velocity; the velocity moves toward it at no more than
+    max_acceleration; BASE_VELOCITY_COMMAND_TIMEOUT after the last command the target becomes zero, and
+    the base decelerates at max_acceleration (the plugin zeroes the target, the limit still applies).
+    The heading is integrated exactly between calls.  linear.x/y are not simulated.
+    """
+
+    def __init__(self, heading: float = 0.0, now: float = 0.0,
+                 max_velocity: float = BASE_MAX_ANGULAR_VELOCITY,
+                 max_acceleration: float = BASE_MAX_ANGULAR_ACCELERATION,
+                 timeout: float = BASE_VELOCITY_COMMAND_TIMEOUT) -> None:
+        self.max_velocity = max_velocity
+        self.max_acceleration = max_acceleration
+        self.timeout = timeout
+        self._heading = heading
+        self._velocity = 0.0
+        self._time = now
+        self._target = 0.0
+        self._last_command: Optional[float] = None
+
+    def command(self, x: float, y: float, angular_z: float, now: float) -> str:
+        """Handle one Twist: "velocity" (target set, clipped) or "invalid" (not finite, ignored)."""
+        if not all(math.isfinite(value) for value in (x, y, angular_z)):
+            return "invalid"
+        self._advance(now)
+        self._target = min(max(angular_z, -self.max_velocity), self.max_velocity)
+        self._last_command = max(now, self._time)
+        return "velocity"
+
+    @property
+    def target(self) -> float:
+        return self._target
+
+    def state(self, now: float) -> BaseState:
+        self._advance(now)
+        return BaseState(self._heading, self._velocity)
+
+    def _advance(self, now: float) -> None:
+        while self._time < now:
+            deadline = None if self._last_command is None else self._last_command + self.timeout
+            if deadline is not None and self._time < deadline:
+                target, end = self._target, min(now, deadline)
+            else:
+                target, end = 0.0, now
+            self._velocity, turned = _ramp(self._velocity, target, self.max_acceleration, end - self._time)
+            self._heading += turned
+            self._time = end
+
+
+def _ramp(velocity: float, target: float, acceleration: float, duration: float) -> Tuple[float, float]:
+    """(velocity, angle turned) after `duration` moving from velocity toward target at `acceleration`."""
+    difference = target - velocity
+    ramp_time = abs(difference) / acceleration if acceleration > 0.0 else math.inf
+    if ramp_time >= duration:
+        final = velocity + math.copysign(acceleration * duration, difference)
+        return final, 0.5 * (velocity + final) * duration
+    return target, 0.5 * (velocity + target) * ramp_time + target * (duration - ramp_time)
+
+
+class JointStateSample(NamedTuple):
+    names: Tuple[str, ...]
+    positions: List[float]
+    velocities: List[float]
+
+
+class SimulatedPepper:
+    """All controllers of a platform, the fixed joints, and the base."""
+
+    def __init__(self, platform: str = "robot", initial_posture: str = "rest", now: float = 0.0,
+                 moveto_keep_latest: bool = False) -> None:
+        if platform not in PLATFORMS:
+            raise ValueError("unknown platform {!r} (expected one of: {})".format(platform, ", ".join(PLATFORMS)))
+        self.platform = PLATFORMS[platform]
+        self.controllers: Dict[str, SimulatedController] = OrderedDict(
+            (key, SimulatedController(CONTROLLER_NAMES[key], part(key).joints, posture(key, initial_posture), now))
+            for key in self.platform.controller_keys)
+        # Joints no controller drives (the simulator's hands) stay at their centre; wheels at 0.
+        self._fixed = {joint: position
+                       for key, part_ in list(PARTS.items()) + [(HEAD_PART.key, HEAD_PART)]
+                       if key not in self.controllers
+                       for joint, position in zip(part_.joints, part_.centre)}
+        self.joint_names: Tuple[str, ...] = tuple(JOINTS) + WHEEL_JOINTS
+        if self.platform.base_kind == RELATIVE:
+            self.base: Any = MoveToBase(now=now, keep_latest=moveto_keep_latest)
+        else:
+            self.base = VelocityBase(now=now)
+
+    def update(self, now: float) -> List[Tuple[str, GoalOutcome]]:
+        """Step every controller: the goals that succeeded, with their controller keys."""
+        outcomes = []
+        for key, controller in self.controllers.items():
+            outcome = controller.update(now)
+            if outcome is not None:
+                outcomes.append((key, outcome))
+        return outcomes
+
+    def joint_state(self, now: float) -> JointStateSample:
+        """Position and velocity of every joint (JOINTS order, then the wheels)."""
+        positions = dict((joint, 0.0) for joint in WHEEL_JOINTS)
+        velocities = dict((joint, 0.0) for joint in self.joint_names)
+        positions.update(self._fixed)
+        for controller in self.controllers.values():
+            state = controller.state(now)
+            positions.update(zip(controller.joint_names, state.positions.tolist()))
+            velocities.update(zip(controller.joint_names, state.velocities.tolist()))
+        return JointStateSample(self.joint_names, [positions[joint] for joint in self.joint_names],
+                                [velocities[joint] for joint in self.joint_names])
+
+    def base_state(self, now: float) -> BaseState:
+        return self.base.state(now)
+
+    def base_command(self, x: float, y: float, angular_z: float, now: float) -> str:
+        return self.base.command(x, y, angular_z, now)
+
+    @property
+    def limit_violation_count(self) -> int:
+        return sum(controller.limit_violation_count for controller in self.controllers.values())
+
+
+def yaw_quaternion(heading: float) -> Tuple[float, float, float, float]:
+    """(x, y, z, w) of a rotation by `heading` about z."""
+    return 0.0, 0.0, math.sin(heading / 2.0), math.cos(heading / 2.0)
