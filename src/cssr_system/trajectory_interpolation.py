@@ -164,28 +164,41 @@ class JointTrajectorySpline:
         start_state = (self.start_time, p0,
                        numpy.zeros(joints) if v0 is None else v0,
                        numpy.zeros(joints) if a0 is None else a0)
-        starts, durations, kinds, coefficients = [], [], [], []
-        for begin, end in zip([start_state] + states[:-1], states):
+        # Segment i runs from self._states[i] to self._states[i + 1]. Its polynomial is computed
+        # when first sampled: a goal is often sampled at one instant only, and 100 quintics cost.
+        self._states = [start_state] + states
+        self._segment_coefficients: List[Optional[numpy.ndarray]] = [None] * len(states)
+        self.segment_start_times = numpy.array([state[0] for state in self._states[:-1]], dtype=float)
+        self.segment_durations = numpy.array(
+            [end[0] - begin[0] for begin, end in zip(self._states, self._states[1:])], dtype=float)
+        self.segment_kinds: Tuple[str, ...] = tuple(
+            _KINDS[min(_level(begin), _level(end))] for begin, end in zip(self._states, self._states[1:]))
+        self.point_times = numpy.array([state[0] for state in states], dtype=float)
+        self.final_positions = states[-1][1].copy() if states else p0.copy()
+
+    def segment_coefficients(self, segment: int) -> numpy.ndarray:
+        """Polynomial of one segment, shape (joints, 6): position = sum_k c_k (t - segment start)^k."""
+        cached = self._segment_coefficients[segment]
+        if cached is None:
+            begin, end = self._states[segment], self._states[segment + 1]
             level = min(_level(begin), _level(end))
             duration = end[0] - begin[0]
             if level == 0:
-                segment = linear_coefficients(begin[1], end[1], duration)
+                cached = linear_coefficients(begin[1], end[1], duration)
             elif level == 1:
-                segment = cubic_coefficients(begin[1], begin[2], end[1], end[2], duration)
+                cached = cubic_coefficients(begin[1], begin[2], end[1], end[2], duration)
             else:
-                segment = quintic_coefficients(begin[1], begin[2], begin[3], end[1], end[2], end[3], duration)
-            starts.append(begin[0])
-            durations.append(duration)
-            kinds.append(_KINDS[level])
-            coefficients.append(segment)
-        self.segment_start_times = numpy.array(starts, dtype=float)
-        self.segment_durations = numpy.array(durations, dtype=float)
-        self.segment_kinds: Tuple[str, ...] = tuple(kinds)
-        # coefficients[segment, joint, k]: position = sum_k c_k (t - segment start)^k
-        self.coefficients = (numpy.array(coefficients) if coefficients
-                             else numpy.zeros((0, joints, 6)))
-        self.point_times = numpy.array([state[0] for state in states], dtype=float)
-        self.final_positions = states[-1][1].copy() if states else p0.copy()
+                cached = quintic_coefficients(begin[1], begin[2], begin[3], end[1], end[2], end[3],
+                                              duration)
+            self._segment_coefficients[segment] = cached
+        return cached
+
+    @property
+    def coefficients(self) -> numpy.ndarray:
+        """coefficients[segment, joint, k] of every segment."""
+        if not self._segment_coefficients:
+            return numpy.zeros((0, self.joint_count, 6))
+        return numpy.array([self.segment_coefficients(i) for i in range(len(self._segment_coefficients))])
 
     @property
     def end_time(self) -> float:
@@ -229,7 +242,9 @@ def sample_trajectory(spline: JointTrajectorySpline, times) -> Tuple[numpy.ndarr
     if inside.any():
         index = segment[inside]
         tau = (times[inside] - spline.segment_start_times[index])[:, None]
-        p, v, a = evaluate_polynomial(spline.coefficients[index], tau)
+        used, which = numpy.unique(index, return_inverse=True)
+        coefficients = numpy.array([spline.segment_coefficients(int(i)) for i in used])[which]
+        p, v, a = evaluate_polynomial(coefficients, tau)
         positions[inside], velocities[inside], accelerations[inside] = p, v, a
     return positions, velocities, accelerations
 
