@@ -110,7 +110,6 @@ def wait_until(condition, timeout, period=0.01):
 class AnimateBehaviourTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        rospy.init_node("animate_behaviour_test")
         cls.platform = rospy.get_param("~platform", "robot")
         rospy.wait_for_service(SERVICE, timeout=30)
         cls.call = rospy.ServiceProxy(SERVICE, setActivation, persistent=True)
@@ -403,11 +402,56 @@ class AnimateBehaviourProcessTest(unittest.TestCase):
                     process.communicate()
 
 
+class EnableDisableCyclesTest(unittest.TestCase):
+    """A thousand enable/disable cycles leave no thread, client or timer behind."""
+
+    CYCLES = 1000
+
+    def test_thousand_cycles_leave_nothing_behind(self):
+        namespace = "/cycles"
+        service = namespace + "/animateBehaviour/setActivation"
+        environment = dict(os.environ, ROS_NAMESPACE=namespace)
+        process = subprocess.Popen(
+            [sys.executable, SCRIPT, "_behaviour:=all", "_logFile:=" + tempfile.mktemp(suffix=".log")],
+            env=environment, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            rospy.wait_for_service(service, timeout=30)
+            call = rospy.ServiceProxy(service, setActivation, persistent=True)
+            threads = os.path.join("/proc", str(process.pid), "task")
+            # Warm up: the first enable connects every client and publisher.
+            call("enabled")
+            time.sleep(1.0)
+            call("disabled")
+            time.sleep(0.5)
+            before = len(os.listdir(threads))
+            started = time.monotonic()
+            for _ in range(self.CYCLES):
+                self.assertEqual(call("enabled").success, REPLY_SUCCESS)
+                self.assertEqual(call("disabled").success, REPLY_SUCCESS)
+            elapsed = time.monotonic() - started
+            time.sleep(1.0)
+            after = len(os.listdir(threads))
+            rospy.loginfo("%d enable/disable cycles in %.1f s; threads %d -> %d",
+                          self.CYCLES, elapsed, before, after)
+            # A few threads of rospy's own come and go (connections); a leak would grow with the cycles.
+            self.assertLessEqual(after, before + 3, "threads before {} after {}".format(before, after))
+            self.assertIsNone(process.poll(), "the node survives the cycles")
+        finally:
+            process.send_signal(signal.SIGINT)
+            try:
+                process.wait(timeout=5)
+            except subprocess.TimeoutExpired:
+                process.kill()
+
+
 def suite():
     loader = unittest.TestLoader()
-    return unittest.TestSuite([loader.loadTestsFromTestCase(AnimateBehaviourTest),
-                               loader.loadTestsFromTestCase(AnimateBehaviourProcessTest)])
+    cases = [AnimateBehaviourTest, AnimateBehaviourProcessTest]
+    if rospy.get_param("~cycles", False):
+        cases.append(EnableDisableCyclesTest)
+    return unittest.TestSuite([loader.loadTestsFromTestCase(case) for case in cases])
 
 
 if __name__ == "__main__":
+    rospy.init_node("animate_behaviour_test")
     rostest.rosrun("cssr_system", "animate_behaviour", "__main__.suite", sys.argv)
