@@ -50,7 +50,7 @@ NODE_PARAMETERS = ("configFile", "logFile")  # private parameters that are not c
 
 HEARTBEAT_PERIOD = 10.0  # s between "running." lines on the console
 SERVICE_REPLY_TIMEOUT = 0.08  # s the service waits for the supervisor to apply a request
-HOME_GESTURE_DURATION = 1.0  # s, the shortest return to the centre on disable
+HOME_GESTURE_DURATION = 0.5  # s, the shortest return to the centre on disable (stretched as needed)
 HOME_MAX_DURATION = 2.0  # s; longer returns are reported (the speed cap wins over this bound)
 RETRY_DELAY = 2.0  # s before a part tries again after a rejected, aborted or foreign-preempted goal
 JOINT_STATE_MAX_AGE = 1.0  # s; older /joint_states are not trusted as the current position
@@ -183,8 +183,12 @@ class PartStream:
         now = time.monotonic()
         joints = PARTS[self.part].joints
         positions, velocities, accelerations = self.current_state(joint_states, now)
+        # A return home from a moving joint brakes inside the band it was animated in.
+        bounds = None
+        if purpose == "home" and self.motion is not None:
+            bounds = ([b.lower for b in self.motion.bounds], [b.upper for b in self.motion.bounds])
         timed = time_trajectory(waypoints, joints, positions, velocities, gesture_duration,
-                                start_accelerations=accelerations)
+                                start_accelerations=accelerations, position_bounds=bounds)
         points = to_points(timed)
         goal = FollowJointTrajectoryGoal()
         goal.trajectory.joint_names = list(joints)

@@ -284,7 +284,8 @@ def _segment_speed_excess(knots, velocities, accelerations, durations, caps):
 
 
 def time_trajectory(waypoints, joint_names: Sequence[str], start_positions, start_velocities,
-                    gesture_duration: float, start_accelerations=None) -> TimedTrajectory:
+                    gesture_duration: float, start_accelerations=None,
+                    position_bounds=None) -> TimedTrajectory:
     """Times, velocities and accelerations for `waypoints` (N, J), starting from the joints' state.
 
     Points are at least `gesture_duration` apart, the first at `gesture_duration` or later; the motion
@@ -294,6 +295,10 @@ def time_trajectory(waypoints, joint_names: Sequence[str], start_positions, star
     start it may overshoot, and in rare cases (a start accelerating hard, near the cap or a limit,
     while gesture_duration forbids braking sooner) exceed the cap or a limit: the least bad timing
     is then chosen.
+
+    `position_bounds` (lower, upper), each of shape (J,), narrows the joint limits the first segment
+    must respect, e.g. to the animation band: where the start and the first waypoint lie inside it,
+    a moving start brakes in time instead of overshooting out of it.
     """
     waypoints = numpy.array(waypoints, dtype=float, ndmin=2)
     count, joints = waypoints.shape
@@ -308,6 +313,9 @@ def time_trajectory(waypoints, joint_names: Sequence[str], start_positions, star
     caps = speed_caps(joint_names)
     lower = numpy.array([JOINTS[name].lower for name in joint_names])
     upper = numpy.array([JOINTS[name].upper for name in joint_names])
+    if position_bounds is not None:
+        lower = numpy.maximum(lower, numpy.asarray(position_bounds[0], dtype=float).reshape(joints))
+        upper = numpy.minimum(upper, numpy.asarray(position_bounds[1], dtype=float).reshape(joints))
     at_rest = (start_velocity == 0.0) & (start_acceleration == 0.0)
 
     first = _FirstSegment(start, start_velocity, start_acceleration, caps, lower, upper, at_rest,

@@ -345,3 +345,31 @@ def test_a_hundred_waypoints_of_five_joints_take_well_under_50_ms(configuration)
         time_trajectory(waypoints, motion.joints, start, numpy.zeros(5), configuration.gesture_duration)
         durations.append(time.perf_counter() - began)
     assert min(durations) < 0.05
+
+
+def test_a_return_home_from_a_moving_joint_brakes_inside_its_band():
+    # The node's return to the centre on disable: a single waypoint (the centre), from wherever a
+    # running goal has the joints, bounded by the band they were animated in. The hardest case: a
+    # goal swinging from edge to edge of the band, interrupted just before it reaches an edge.
+    configuration = default_configuration()
+    worst_outside = 0.0
+    for motion in animated_parts(configuration, ROBOT_PARTS):
+        lower = numpy.array([b.lower for b in motion.bounds])
+        upper = numpy.array([b.upper for b in motion.bounds])
+        centre = numpy.array([b.centre for b in motion.bounds])
+        swing = numpy.array([lower, upper] * 5)
+        running = time_trajectory(swing, motion.joints, centre, numpy.zeros(len(centre)),
+                                  configuration.gesture_duration)
+        spline = spline_of(running, centre)
+        for before_edge in (0.05, 0.1, 0.2, 0.3, 0.4):
+            start = spline.sample(float(running.times[4] - before_edge))
+            home = time_trajectory(centre[None, :], motion.joints, start[0], start[1], 0.5,
+                                   start_accelerations=start[2], position_bounds=(lower, upper))
+            positions, velocities, _ = sample_trajectory(
+                spline_of(home, *start), numpy.linspace(0.0, home.times[-1], 400))
+            worst_outside = max(worst_outside, float(numpy.max(numpy.maximum(
+                lower - positions, positions - upper))))
+            numpy.testing.assert_allclose(home.positions[-1], centre, atol=1e-12)
+            assert home.times[-1] <= 2.0
+            assert numpy.all(numpy.abs(velocities) <= speed_caps(motion.joints) * (1 + 1e-9))
+    assert worst_outside <= 1e-6, "a return home left its band by {} rad".format(worst_outside)
