@@ -7,6 +7,7 @@ its queue. Each controller has its own `PartStream` (IDLE, ANIMATING, HOMING, WA
 part can be paused or resumed on its own; the base has a `BaseStream`.
 """
 import enum
+import math
 import os
 import queue
 import signal
@@ -34,7 +35,7 @@ from cssr_system.base_rotation import VELOCITY, BaseRotationPlanner, wheels_comm
 from cssr_system.configuration import (Configuration, ConfigurationError, configuration_items,
                                        load_configuration, topic_file_path)
 from cssr_system.event_log import EventLog, default_log_path
-from cssr_system.joint_table import PARTS
+from cssr_system.joint_table import BASE_MAX_ANGULAR_ACCELERATION, PARTS
 from cssr_system.motion_plan import PartMotion, animated_parts, make_rng, random_waypoints
 from cssr_system.srv import setActivation, setActivationResponse
 from cssr_system.topics import WHEELS_KEY, TopicFileError, load_topic_map
@@ -285,10 +286,13 @@ class BaseStream:
             return
         if self.kind == VELOCITY and self._step is not None:
             self._publish(0.0)
-            # The bump was cut short: the heading is where the published samples took it.
+            # The bump was cut short: the heading is where the published samples took it, plus
+            # the base's braking from the last speed at its acceleration limit.
             step = self._step
             turned = sum(step.velocities[:self._next_sample]) * step.period
-            self.planner.set_heading(step.target_heading - step.angle + turned)
+            last = step.velocities[self._next_sample - 1] if self._next_sample else 0.0
+            braking = math.copysign(last * last / (2.0 * BASE_MAX_ANGULAR_ACCELERATION), last)
+            self.planner.set_heading(step.target_heading - step.angle + turned + braking)
             self._step = None
         elif self._step is not None:
             self._step_ends_at = min(self._step_ends_at, self._step_started + self._step.busy_time)

@@ -60,6 +60,9 @@ PAUSE_RANGE = (1.0, 4.0)  # s of stillness after each random step: a calm rhythm
 MIN_SAMPLE_RATE = 10.0  # Hz; SPEC section 4 (the plugin's time-out is BASE_VELOCITY_COMMAND_TIMEOUT)
 DEFAULT_SAMPLE_RATE = 20.0  # Hz
 RETURN_TOLERANCE = 1e-3  # rad; return_step does nothing closer to 0 than this
+# s beyond the driver's turn and settle time before the next relative command: a command that
+# arrives while the driver is still busy is dropped, and its timing is not exact.
+RELATIVE_COMMAND_MARGIN = 0.3
 # Plan slightly inside the speed and acceleration limits so rounding never crosses them.
 _LIMIT_MARGIN = 1.0 - 1e-9
 
@@ -192,7 +195,8 @@ class BaseRotationPlanner:
     def _step_to(self, target: float, pause: float, stretch: float) -> RotationStep:
         angle = target - self._heading
         if self.kind == RELATIVE:
-            busy_time = abs(angle) / BASE_MOVETO_ANGULAR_VELOCITY + BASE_MOVETO_SETTLE_TIME
+            busy_time = (abs(angle) / BASE_MOVETO_ANGULAR_VELOCITY + BASE_MOVETO_SETTLE_TIME
+                         + RELATIVE_COMMAND_MARGIN)
             step = RotationStep(RELATIVE, angle, (), 0.0, busy_time + pause, target, busy_time)
         else:
             motion_time = self._shortest_motion_time(abs(angle)) * stretch

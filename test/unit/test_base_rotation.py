@@ -11,7 +11,9 @@ from cssr_system.base_rotation import (
     MIN_SAMPLE_RATE,
     MIN_TURN,
     RELATIVE,
+    RELATIVE_COMMAND_MARGIN,
     RETURN_TOLERANCE,
+    RELATIVE_COMMAND_MARGIN,
     RETURN_TOLERANCE,
     VELOCITY,
     BaseRotationPlanner,
@@ -62,8 +64,8 @@ def check_relative_step(step: RotationStep) -> None:
     assert step.angle != 0.0
     assert step.duration >= abs(step.angle) / BASE_MOVETO_ANGULAR_VELOCITY + BASE_MOVETO_SETTLE_TIME
     # The driver turns then sleeps: the robot is busy that long, and will drop anything sent then.
-    assert step.busy_time == pytest.approx(
-        abs(step.angle) / BASE_MOVETO_ANGULAR_VELOCITY + BASE_MOVETO_SETTLE_TIME)
+    assert step.busy_time == pytest.approx(abs(step.angle) / BASE_MOVETO_ANGULAR_VELOCITY
+                                           + BASE_MOVETO_SETTLE_TIME + RELATIVE_COMMAND_MARGIN)
     assert step.busy_time <= step.duration
 
 
@@ -194,7 +196,7 @@ def test_return_step_brings_a_measured_heading_back(kind):
     else:
         check_relative_step(home)
         # The way home waits only for the robot, no random pause.
-        assert home.duration == pytest.approx(0.25 / BASE_MOVETO_ANGULAR_VELOCITY
+        assert home.duration == pytest.approx(0.25 / BASE_MOVETO_ANGULAR_VELOCITY + RELATIVE_COMMAND_MARGIN
                                               + BASE_MOVETO_SETTLE_TIME)
 
 
