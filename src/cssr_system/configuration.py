@@ -141,7 +141,7 @@ def _format_bound(value: float) -> str:
     return "{:g}".format(value)
 
 
-def _number_in(low: float, high: float) -> Callable[[str], object]:
+def number_in(low: float, high: float) -> Callable[[str], object]:
     def parse(text: str) -> float:
         value = _number(text)
         if not low <= value <= high:
@@ -157,7 +157,7 @@ def _positive_number(text: str) -> float:
     return value
 
 
-def _integer_at_least(low: int) -> Callable[[str], object]:
+def integer_at_least(low: int) -> Callable[[str], object]:
     def parse(text: str) -> int:
         value = _integer(text)
         if value < low:
@@ -291,26 +291,26 @@ KEYS: Dict[str, KeySpec] = OrderedDict((spec.name, spec) for spec in (
          "topic file of the simulator", "simulatorTopics.dat"),
     _key("verboseMode", "verbose_mode", _boolean, _format_boolean, "true or false",
          "print debug-level diagnostics when true", "false"),
-    _key("rotMaximumRange", "rot_maximum_range", _number_in(0.0, 1.0), _format_number, _UNIT,
+    _key("rotMaximumRange", "rot_maximum_range", number_in(0.0, 1.0), _format_number, _UNIT,
          "peak angular speed of the base, as a fraction of its maximum of {} rad/s".format(
              _format_bound(BASE_MAX_ANGULAR_VELOCITY)), "0.3"),
-    _key("selectedRange", "selected_range", _number_in(0.0, 1.0), _format_number, _UNIT,
+    _key("selectedRange", "selected_range", number_in(0.0, 1.0), _format_number, _UNIT,
          "global scale of the joint motion (not of the rotation)", "0.5"),
     _key("armMaximumRange", "arm_maximum_range", _numbers_in(len(_ARM_JOINTS), 0.0, 1.0), _format_numbers,
          _list_of_units(_ARM_JOINTS), "fraction of each arm joint's full range that the motion may span",
          "0.2,0.2,0.2,0.35,0.2"),
-    _key("handMaximumRange", "hand_maximum_range", _number_in(0.0, 1.0), _format_number, _UNIT,
+    _key("handMaximumRange", "hand_maximum_range", number_in(0.0, 1.0), _format_number, _UNIT,
          "fraction of the hand's full range (closed to open) that the motion may span", "0.7"),
     _key("legMaximumRange", "leg_maximum_range", _numbers_in(len(_LEG_JOINTS), 0.0, 1.0), _format_numbers,
          _list_of_units(_LEG_JOINTS), "fraction of each leg joint's full range that the motion may span",
          "0.1,0.1,0.08"),
     _key("gestureDuration", "gesture_duration", _positive_number, _format_number, "a number of seconds > 0",
          "seconds between consecutive random positions", "1.0"),
-    _key("numPoints", "num_points", _integer_at_least(1), str, _AT_LEAST_ONE,
+    _key("numPoints", "num_points", integer_at_least(1), str, _AT_LEAST_ONE,
          "random positions per trajectory", "100"),
-    _key("numPointsLeg", "num_points_leg", _integer_at_least(1), str, _AT_LEAST_ONE,
+    _key("numPointsLeg", "num_points_leg", integer_at_least(1), str, _AT_LEAST_ONE,
          "random leg positions at the start of each leg chunk; the rest of the chunk is the centre", "2"),
-    _key("legRepeatFactor", "leg_repeat_factor", _integer_at_least(1), str, _AT_LEAST_ONE,
+    _key("legRepeatFactor", "leg_repeat_factor", integer_at_least(1), str, _AT_LEAST_ONE,
          "leg chunks per trajectory; chunk size = floor(numPoints / legRepeatFactor)", "8"),
     _key("randomSeed", "random_seed", _random_seed, _format_random_seed,
          "none or an integer in [0, {}]".format(LARGEST_RANDOM_SEED),
@@ -318,7 +318,7 @@ KEYS: Dict[str, KeySpec] = OrderedDict((spec.name, spec) for spec in (
     _key("homeOnDisable", "home_on_disable", _boolean, _format_boolean, "true or false",
          "on disable, return smoothly to the rest posture when true, stop where the joints are when false",
          default=True),
-    _key("headingBound", "heading_bound", _number_in(0.0, 0.5), _format_number,
+    _key("headingBound", "heading_bound", number_in(0.0, 0.5), _format_number,
          "a number of radians in [0, 0.5]",
          "largest turn of the base away from its heading when animation was enabled", default=0.3),
 ))
@@ -376,7 +376,7 @@ def _override_text(value: object) -> str:
     return _scalar_text(value)
 
 
-def _check(spec: KeySpec, text: str, where: str, subject: str, shown: str,
+def check_value(spec: KeySpec, text: str, where: str, subject: str, shown: str,
            problems: List[str]) -> Optional[_Value]:
     """The parsed value, or None after adding the problem to `problems`."""
     if not text:
@@ -446,7 +446,7 @@ def parse_configuration(text: str, source: str, overrides: Optional[Mapping[str,
                 where, line.key, first_lines[line.key]))
         else:
             first_lines[line.key] = line.number
-            checked = _check(spec, line.value, where, "{}: {}".format(where, line.key), repr(line.value),
+            checked = check_value(spec, line.value, where, "{}: {}".format(where, line.key), repr(line.value),
                              problems)
             if checked is not None:
                 values[line.key] = checked
@@ -464,7 +464,7 @@ def parse_configuration(text: str, source: str, overrides: Optional[Mapping[str,
             problems.append("{} = {!r}: expected {} (a parameter of type {} is not accepted)".format(
                 where, override, spec.expected, error))
             continue
-        checked = _check(spec, override_text, where, where, repr(override), problems)
+        checked = check_value(spec, override_text, where, where, repr(override), problems)
         if checked is not None:
             values[key] = checked
 
