@@ -1,5 +1,5 @@
 # The two commands of the README, and the steps they are made of.
-.PHONY: demo test setup build clean
+.PHONY: demo test benchmark setup build clean
 
 # make demo DURATION=10 PLATFORM=simulator, or DEMO_DURATION / DEMO_PLATFORM in the environment
 # (the short names only from the command line: environments often hold an unrelated PLATFORM).
@@ -10,6 +10,9 @@ demo:
 
 test:
 	bash tools/run_tests.sh
+
+benchmark:
+	bash tools/benchmark.sh
 
 setup:
 	bash tools/setup.sh

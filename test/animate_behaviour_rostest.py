@@ -5,6 +5,7 @@ The node, the simulated Pepper and a real ROS master run as in use; this test ca
 service and watches what goes over the wire to the controllers (goal and cancel topics, the
 Wheels topic) and what the robot reports (/joint_states). Private parameters: `platform`.
 """
+import datetime
 import os
 import signal
 import subprocess
@@ -17,20 +18,16 @@ import unittest
 import rospkg
 import rospy
 import rostest
-from actionlib_msgs.msg import GoalID
-from control_msgs.msg import FollowJointTrajectoryActionGoal, FollowJointTrajectoryActionResult
-from geometry_msgs.msg import Twist
 from sensor_msgs.msg import JointState
 
-from cssr_system.activation import REPLY_FAILURE, REPLY_SUCCESS
-import datetime
-
 from cssr_system import log_events
+from cssr_system.activation import REPLY_FAILURE, REPLY_SUCCESS
 from cssr_system.configuration import load_configuration, topic_file_path
 from cssr_system.event_log import read_log
 from cssr_system.joint_table import JOINTS, PARTS, speed_limit
 from cssr_system.srv import setActivation
 from cssr_system.topics import WHEELS_KEY, load_topic_map
+from cssr_system.wire_recorder import WireRecorder, wait_until
 
 SERVICE = "/animateBehaviour/setActivation"
 # Generous bounds for a loaded 2-core CI machine; the strict figures are in the benchmark.
@@ -58,53 +55,6 @@ def expected_bounds(config, joint_name):
         maximum = config.hand_maximum_range
     offset = joint.full_range * maximum * config.selected_range / 2
     return max(centre - offset, joint.lower), min(centre + offset, joint.upper), centre
-
-
-class WireRecorder:
-    """Records every goal, cancel and result sent to the controllers of one topic map, and the
-    Wheels commands, with their arrival times."""
-
-    def __init__(self, topics):
-        self.lock = threading.Lock()
-        self.goals, self.cancels, self.results, self.twists = [], [], [], []
-        self.subscribers = []
-        for key, name in topics.items():
-            if key == WHEELS_KEY:
-                self.subscribers.append(rospy.Subscriber(name, Twist, self._record, (self.twists, key)))
-                continue
-            self.subscribers.append(rospy.Subscriber(
-                name + "/goal", FollowJointTrajectoryActionGoal, self._record, (self.goals, key)))
-            self.subscribers.append(rospy.Subscriber(
-                name + "/cancel", GoalID, self._record, (self.cancels, key)))
-            self.subscribers.append(rospy.Subscriber(
-                name + "/result", FollowJointTrajectoryActionResult, self._record, (self.results, key)))
-
-    def _record(self, message, args):
-        store, key = args
-        with self.lock:
-            store.append((time.monotonic(), key, message))
-
-    def clear(self):
-        with self.lock:
-            for store in (self.goals, self.cancels, self.results, self.twists):
-                del store[:]
-
-    def snapshot(self, store):
-        with self.lock:
-            return list(store)
-
-    def connected(self):
-        return all(s.get_num_connections() > 0 for s in self.subscribers
-                   if not s.name.endswith("/cancel") and not s.name.endswith("/result"))
-
-
-def wait_until(condition, timeout, period=0.01):
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if condition():
-            return True
-        time.sleep(period)
-    return condition()
 
 
 class AnimateBehaviourTest(unittest.TestCase):
@@ -150,6 +100,7 @@ class AnimateBehaviourTest(unittest.TestCase):
     def run_behaviour(self, behaviour, seconds=1.5):
         rospy.set_param("/animateBehaviour/behaviour", behaviour)
         self.enabled_at = datetime.datetime.now().astimezone()
+        self.enabled_monotonic = time.monotonic()
         reply, _ = self.request("enabled")
         self.assertEqual(reply, REPLY_SUCCESS)
         time.sleep(seconds)
@@ -311,9 +262,11 @@ class AnimateBehaviourTest(unittest.TestCase):
         finally:
             for key in ("numPoints", "legRepeatFactor", "gestureDuration"):
                 rospy.delete_param("/animateBehaviour/" + key)
-        results = [(at, key) for at, key, m in self.wire.snapshot(self.wire.results)
-                   if m.status.status == 3]  # SUCCEEDED
         goals = self.wire.snapshot(self.wire.goals)
+        # Successes of the goals sent since enabling (not of a previous test's return home).
+        ours = {m.goal_id.id for at, _, m in goals if at >= self.enabled_monotonic}
+        results = [(at, key) for at, key, m in self.wire.snapshot(self.wire.results)
+                   if m.status.status == 3 and m.status.goal_id.id in ours]  # SUCCEEDED
         self.assertTrue(results, "short goals succeed")
         for finished, key in results:
             following = [at for at, k, _ in goals if k == key and at >= finished]

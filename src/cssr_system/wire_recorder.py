@@ -1,0 +1,69 @@
+"""Records what goes over the wire to a robot's controllers, for tests and benchmarks (rospy).
+
+Subscribes to every action namespace's goal, cancel and result topics and to the Wheels topic of a
+topic map, and keeps each message with its arrival time on the monotonic clock."""
+import threading
+import time
+
+import rospy
+from actionlib_msgs.msg import GoalID
+from control_msgs.msg import FollowJointTrajectoryActionGoal, FollowJointTrajectoryActionResult
+from geometry_msgs.msg import Twist
+
+from cssr_system.topics import WHEELS_KEY
+
+
+class WireRecorder:
+    """goals, cancels, results, twists: lists of (arrival time, topic-map key, message)."""
+
+    def __init__(self, topics):
+        self.lock = threading.Lock()
+        self.goals, self.cancels, self.results, self.twists = [], [], [], []
+        self._needed = []  # subscribers that must be connected before measuring
+        self._subscribers = []
+        for key, name in topics.items():
+            if key == WHEELS_KEY:
+                subscriber = rospy.Subscriber(name, Twist, self._record, (self.twists, key))
+                self._needed.append(subscriber)
+                self._subscribers.append(subscriber)
+                continue
+            goal = rospy.Subscriber(name + "/goal", FollowJointTrajectoryActionGoal, self._record,
+                                    (self.goals, key))
+            self._needed.append(goal)
+            self._subscribers += [goal,
+                                  rospy.Subscriber(name + "/cancel", GoalID, self._record,
+                                                   (self.cancels, key)),
+                                  rospy.Subscriber(name + "/result", FollowJointTrajectoryActionResult,
+                                                   self._record, (self.results, key))]
+
+    def _record(self, message, args):
+        store, key = args
+        with self.lock:
+            store.append((time.monotonic(), key, message))
+
+    def clear(self):
+        with self.lock:
+            for store in (self.goals, self.cancels, self.results, self.twists):
+                del store[:]
+
+    def snapshot(self, store):
+        with self.lock:
+            return list(store)
+
+    def connected(self):
+        """True once every goal and Wheels subscription has a publisher connected."""
+        return all(subscriber.get_num_connections() > 0 for subscriber in self._needed)
+
+    def unregister(self):
+        for subscriber in self._subscribers:
+            subscriber.unregister()
+
+
+def wait_until(condition, timeout, period=0.01):
+    """Polls `condition` until it is true or `timeout` seconds have passed; returns its last value."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if condition():
+            return True
+        time.sleep(period)
+    return condition()

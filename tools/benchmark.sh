@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# `make benchmark`: the node's latency figures (SPEC section 5) against the simulated Pepper, on both
+# platforms' interfaces. Prints a table per platform; not part of `make test`.
+set -euo pipefail
+source "$(dirname "$0")/common.sh"
+cd "$REPO_DIR"
+bash tools/setup.sh
+bash tools/build.sh
+source_workspace
+export ROS_HOME="$WORKSPACE_DIR/ros_home" ROS_HOSTNAME=${ROS_HOSTNAME:-localhost}
+mkdir -p "$ROS_HOME"
+for platform in robot simulator; do
+  rostest --text "$REPO_DIR/test/benchmark/latency_benchmark.test" platform:="$platform" \
+    cycles:="${BENCHMARK_CYCLES:-50}" 2>&1 | sed -n '/latency benchmark/,/^next goal/p'
+done
