@@ -7,7 +7,6 @@ its queue. Each controller has its own `PartStream` (IDLE, ANIMATING, HOMING, WA
 part can be paused or resumed on its own; the base has a `BaseStream`.
 """
 import enum
-import math
 import os
 import queue
 import signal
@@ -31,11 +30,12 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 from cssr_system import log_events
 from cssr_system.activation import (DISABLED, ENABLED, REPLY_FAILURE, REPLY_SUCCESS,
                                     ACCEPTED_STATES, parse_activation_state)
-from cssr_system.base_rotation import VELOCITY, BaseRotationPlanner, wheels_command_kind
+from cssr_system.base_rotation import (VELOCITY, BaseRotationPlanner, heading_after_interruption,
+                                       wheels_command_kind)
 from cssr_system.configuration import (Configuration, ConfigurationError, configuration_items,
                                        load_configuration, topic_file_path)
 from cssr_system.event_log import EventLog, default_log_path
-from cssr_system.joint_table import BASE_MAX_ANGULAR_ACCELERATION, PARTS
+from cssr_system.joint_table import PARTS
 from cssr_system.motion_plan import PartMotion, animated_parts, make_rng, random_waypoints
 from cssr_system.srv import setActivation, setActivationResponse
 from cssr_system.topics import WHEELS_KEY, TopicFileError, load_topic_map
@@ -215,6 +215,8 @@ class PartStream:
                               JointTrajectorySpline(positions, velocities, accelerations, points,
                                                     start_time=now), handle)
         bounds = self.motion.bounds if self.motion is not None else ()
+        rospy.logdebug("%s: %s goal %d (%s) sent to %s: %d points over %.1f s.", NODE_NAME,
+                       self.part, number, purpose, self.action, len(points), timed.times[-1])
         log.write(log_events.GOAL_SENT, part=self.part, label=PARTS[self.part].label,
                   action=self.action, purpose=purpose, goal=number, joints=joints,
                   centre=PARTS[self.part].centre,
@@ -286,13 +288,7 @@ class BaseStream:
             return
         if self.kind == VELOCITY and self._step is not None:
             self._publish(0.0)
-            # The bump was cut short: the heading is where the published samples took it, plus
-            # the base's braking from the last speed at its acceleration limit.
-            step = self._step
-            turned = sum(step.velocities[:self._next_sample]) * step.period
-            last = step.velocities[self._next_sample - 1] if self._next_sample else 0.0
-            braking = math.copysign(last * last / (2.0 * BASE_MAX_ANGULAR_ACCELERATION), last)
-            self.planner.set_heading(step.target_heading - step.angle + turned + braking)
+            self.planner.set_heading(heading_after_interruption(self._step, self._next_sample))
             self._step = None
         elif self._step is not None:
             self._step_ends_at = min(self._step_ends_at, self._step_started + self._step.busy_time)
@@ -339,6 +335,8 @@ class BaseStream:
                 self.state = BaseState.IDLE
             return
         self._step_ends_at = now + step.duration
+        rospy.logdebug("%s: base %s turn of %+.3f rad to heading %+.3f on %s.", NODE_NAME, purpose,
+                       step.angle, step.target_heading, self.topic)
         log.write(log_events.BASE_COMMAND, topic=self.topic, kind=self.kind, purpose=purpose,
                   angle=step.angle, target_heading=step.target_heading, period=step.period,
                   velocities=step.velocities)

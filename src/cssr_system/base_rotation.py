@@ -106,6 +106,17 @@ def raised_cosine_velocities(angle: float, sample_count: int, period: float) -> 
     return tuple((shape * scale).tolist()) + (0.0,)
 
 
+def heading_after_interruption(step: RotationStep, samples_sent: int) -> float:
+    """Where a VELOCITY step cut short after `samples_sent` samples leaves the heading (planner
+    frame): the turn the sent samples made, plus the base's braking from the last speed at its
+    acceleration limit once the explicit zero arrives."""
+    start = step.target_heading - step.angle
+    turned = math.fsum(step.velocities[:samples_sent]) * step.period
+    last = step.velocities[samples_sent - 1] if samples_sent else 0.0
+    braking = math.copysign(last * last / (2.0 * BASE_MAX_ANGULAR_ACCELERATION), last)
+    return start + turned + braking
+
+
 class BaseRotationPlanner:
     """Random base turns inside [-heading_bound, heading_bound] (see the module docstring).
 

@@ -12,8 +12,10 @@ from cssr_system.base_rotation import (
     MIN_TURN,
     RELATIVE,
     RELATIVE_COMMAND_MARGIN,
+    heading_after_interruption,
     RETURN_TOLERANCE,
     RELATIVE_COMMAND_MARGIN,
+    heading_after_interruption,
     RETURN_TOLERANCE,
     VELOCITY,
     BaseRotationPlanner,
@@ -246,3 +248,19 @@ def test_same_seed_same_plan():
 def test_velocity_duration_includes_a_pause():
     step = planner(VELOCITY, seed=3).next_step()
     assert step.duration > len(step.velocities) * step.period
+
+
+def test_an_interrupted_turn_leaves_the_heading_where_the_sent_samples_and_braking_take_it():
+    rotation = planner(VELOCITY, 0.3, 0.3, seed=5)
+    step = rotation.next_step()
+    start = step.target_heading - step.angle
+    assert heading_after_interruption(step, 0) == start
+    assert heading_after_interruption(step, len(step.velocities)) == pytest.approx(step.target_heading)
+    middle = len(step.velocities) // 2
+    speed = step.velocities[middle - 1]
+    expected = (start + math.fsum(step.velocities[:middle]) * step.period
+                + math.copysign(speed * speed / (2 * BASE_MAX_ANGULAR_ACCELERATION), speed))
+    assert heading_after_interruption(step, middle) == pytest.approx(expected)
+    # Braking carries the base further the way it was turning.
+    assert abs(heading_after_interruption(step, middle) - start) > abs(
+        math.fsum(step.velocities[:middle]) * step.period)
