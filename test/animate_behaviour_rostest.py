@@ -323,14 +323,16 @@ class AnimateBehaviourProcessTest(unittest.TestCase):
         self.assertIn("selectedRange", errors)
         self.assertIn("numPoints", errors, "every problem is reported")
 
-    def test_sigint_and_missing_controller(self):
+    def test_signals_and_missing_controller(self):
         # In its own namespace with the simulator platform, on a master where the simulated
         # Pepper serves only one platform: one of the two runs has controllers missing.
         namespace = "/second"
         service = namespace + "/animateBehaviour/setActivation"
-        for platform in ("robot", "simulator"):
-            with self.subTest(platform=platform):
+        runs = (("robot", signal.SIGINT, "true"), ("simulator", signal.SIGTERM, "false"))
+        for platform, stop_signal, verbose in runs:
+            with self.subTest(platform=platform, signal=stop_signal, verbose=verbose):
                 process = self.start_node(namespace, "_platform:=" + platform, "_behaviour:=body",
+                                          "_verboseMode:=" + verbose,
                                           "_logFile:=" + tempfile.mktemp(suffix=".log"))
                 try:
                     rospy.wait_for_service(service, timeout=30)
@@ -345,14 +347,17 @@ class AnimateBehaviourProcessTest(unittest.TestCase):
                     self.assertEqual(call("enabled").success, REPLY_SUCCESS)
                     time.sleep(0.5)
                     sent = time.monotonic()
-                    process.send_signal(signal.SIGINT)
+                    process.send_signal(stop_signal)
                     process.wait(timeout=5)
                     self.assertLess(time.monotonic() - sent, 1.5, "exit within about 1 s")
                     self.assertEqual(process.returncode, 0)
                 finally:
                     if process.poll() is None:
                         process.kill()
-                    process.communicate()
+                    output, errors = process.communicate()
+                # verboseMode switches the node's logger to debug level.
+                self.assertEqual("[DEBUG]" in output + errors, verbose == "true",
+                                 "debug lines with verboseMode {}".format(verbose))
 
 
 class EnableDisableCyclesTest(unittest.TestCase):
