@@ -4,11 +4,7 @@
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 cd "$REPO_DIR"
-bash tools/setup.sh
-bash tools/build.sh
-source_workspace
-export ROS_HOME="$WORKSPACE_DIR/ros_home" ROS_HOSTNAME=${ROS_HOSTNAME:-localhost}
-mkdir -p "$ROS_HOME"
+prepare_workspace
 for platform in robot simulator; do
   rostest --text "$REPO_DIR/test/benchmark/latency_benchmark.test" platform:="$platform" \
     cycles:="${BENCHMARK_CYCLES:-50}" 2>&1 | sed -n '/latency benchmark/,/^next goal/p'

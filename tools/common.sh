@@ -27,3 +27,14 @@ source_workspace() {
   source "$WORKSPACE_DIR/devel/setup.bash"
   [ "$nounset" = 0 ] || set -u
 }
+
+# Installs what is missing, builds the workspace, sources it and sets a ROS_HOME inside it: the
+# common start of the test, demo and benchmark scripts.
+prepare_workspace() {
+  bash "$REPO_DIR/tools/setup.sh" || return 1
+  bash "$REPO_DIR/tools/build.sh" || return 1
+  source_workspace
+  export ROS_HOME="$WORKSPACE_DIR/ros_home"
+  export ROS_HOSTNAME=${ROS_HOSTNAME:-localhost}
+  mkdir -p "$ROS_HOME"
+}

@@ -12,12 +12,7 @@ set -euo pipefail
 source "$(dirname "$0")/common.sh"
 cd "$REPO_DIR"
 
-bash tools/setup.sh
-bash tools/build.sh
-source_workspace
-export ROS_HOME="$WORKSPACE_DIR/ros_home"
-export ROS_HOSTNAME=${ROS_HOSTNAME:-localhost}
-mkdir -p "$ROS_HOME"
+prepare_workspace
 
 if [ -n "${DEMO_MASTER_URI:-}" ]; then
   export ROS_MASTER_URI=$DEMO_MASTER_URI

@@ -6,13 +6,9 @@ set -uo pipefail
 source "$(dirname "$0")/common.sh"
 cd "$REPO_DIR"
 
-bash tools/setup.sh || exit 1
-bash tools/build.sh || exit 1
-source_workspace
-export ROS_HOME="$WORKSPACE_DIR/ros_home"
-export ROS_HOSTNAME=localhost
+prepare_workspace || exit 1
 rm -rf "$RESULTS_DIR"
-mkdir -p "$RESULTS_DIR/rostest" "$ROS_HOME"
+mkdir -p "$RESULTS_DIR/rostest"
 
 log_step "static checks"
 python3 tools/check_to_junit.py "$RESULTS_DIR/check-python38.xml" python38_compatibility -- \

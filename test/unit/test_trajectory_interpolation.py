@@ -37,28 +37,28 @@ def points_on(polynomials, times, level, offset=0.0):
     return points
 
 
+def assert_reproduces(spline, polynomials, end_time):
+    """The spline equals the polynomials, in position, velocity and acceleration, up to end_time."""
+    times = numpy.linspace(0.0, end_time, int(round(end_time * 100)) + 1)
+    positions, velocities, accelerations = sample_trajectory(spline, times)
+    expected = polynomial_state(polynomials, times[:, None])
+    numpy.testing.assert_allclose(positions, expected[0], atol=1e-12)
+    numpy.testing.assert_allclose(velocities, expected[1], atol=1e-11)
+    numpy.testing.assert_allclose(accelerations, expected[2], atol=1e-10)
+
+
 def test_quintic_points_reproduce_a_quintic():
     start = polynomial_state(QUINTIC_POLYNOMIALS, 0.0)
     spline = JointTrajectorySpline(*start, points_on(QUINTIC_POLYNOMIALS, [0.7, 1.5, 3.0], 2))
     assert spline.segment_kinds == (QUINTIC,) * 3
-    times = numpy.linspace(0.0, 3.0, 301)
-    positions, velocities, accelerations = sample_trajectory(spline, times)
-    expected = polynomial_state(QUINTIC_POLYNOMIALS, times[:, None])
-    numpy.testing.assert_allclose(positions, expected[0], atol=1e-12)
-    numpy.testing.assert_allclose(velocities, expected[1], atol=1e-11)
-    numpy.testing.assert_allclose(accelerations, expected[2], atol=1e-10)
+    assert_reproduces(spline, QUINTIC_POLYNOMIALS, 3.0)
 
 
 def test_cubic_points_reproduce_a_cubic_and_ignore_the_start_acceleration():
     p0, v0, _ = polynomial_state(CUBIC_POLYNOMIALS, 0.0)
     spline = JointTrajectorySpline(p0, v0, [5.0, -5.0], points_on(CUBIC_POLYNOMIALS, [0.5, 2.0, 2.4], 1))
     assert spline.segment_kinds == (CUBIC,) * 3
-    times = numpy.linspace(0.0, 2.4, 241)
-    positions, velocities, accelerations = sample_trajectory(spline, times)
-    expected = polynomial_state(CUBIC_POLYNOMIALS, times[:, None])
-    numpy.testing.assert_allclose(positions, expected[0], atol=1e-12)
-    numpy.testing.assert_allclose(velocities, expected[1], atol=1e-11)
-    numpy.testing.assert_allclose(accelerations, expected[2], atol=1e-10)
+    assert_reproduces(spline, CUBIC_POLYNOMIALS, 2.4)
 
 
 def test_position_only_points_are_joined_by_straight_lines():
