@@ -14,6 +14,7 @@ import sys
 import threading
 import time
 import xml.etree.ElementTree as ElementTree
+from collections import OrderedDict
 from typing import Dict, List, NamedTuple, Optional
 
 import actionlib
@@ -55,6 +56,7 @@ HOME_GESTURE_DURATION = 0.5  # s, the shortest return to the centre on disable (
 HOME_MAX_DURATION = 2.0  # s; longer returns are reported (the speed cap wins over this bound)
 RETRY_DELAY = 2.0  # s before a part tries again after a rejected, aborted or foreign-preempted goal
 JOINT_STATE_MAX_AGE = 1.0  # s; older /joint_states are not trusted as the current position
+MAX_UNFINISHED_GOALS = 16  # handles kept for goals whose end has not been reported yet
 LOST_RESULT_GRACE = 5.0  # s after a goal's end before a missing result counts as lost
 WATCH_PERIOD = 0.5  # s between checks of controllers that are not connected yet
 WAIT_REPORT_PERIOD = 10.0  # s between log lines about a controller that is still missing
@@ -115,6 +117,7 @@ class Disable(NamedTuple):
 
 class GoalDone(NamedTuple):
     part: str
+    action: str
     goal_number: int
     state: int
     error_code: Optional[int]
@@ -161,6 +164,9 @@ class PartStream:
         self._post = post
         self._goal_number = 0
         self._sent: Optional[SentGoal] = None
+        # Goals that have not reported their end, replaced and cancelled ones too: holding their
+        # handles keeps their transitions coming, so every goal's final state reaches the log.
+        self._unfinished: "OrderedDict[int, SentGoal]" = OrderedDict()
 
     # -- state estimates --------------------------------------------------------------------
     def current_state(self, joint_states: JointStateCache, now: float):
@@ -206,7 +212,7 @@ class PartStream:
             if handle.get_comm_state() != CommState.DONE:
                 return
             result = handle.get_result()
-            self._post(GoalDone(part, number, handle.get_goal_status(),
+            self._post(GoalDone(part, self.action, number, handle.get_goal_status(),
                                 None if result is None else result.error_code,
                                 "" if result is None else result.error_string))
 
@@ -214,6 +220,9 @@ class PartStream:
         self._sent = SentGoal(number, purpose,
                               JointTrajectorySpline(positions, velocities, accelerations, points,
                                                     start_time=now), handle)
+        self._unfinished[number] = self._sent
+        while len(self._unfinished) > MAX_UNFINISHED_GOALS:  # a controller that never answers
+            self._unfinished.popitem(last=False)
         bounds = self.motion.bounds if self.motion is not None else ()
         rospy.logdebug("%s: %s goal %d (%s) sent to %s: %d points over %.1f s.", NODE_NAME,
                        self.part, number, purpose, self.action, len(points), timed.times[-1])
@@ -236,6 +245,10 @@ class PartStream:
 
     def is_current(self, goal_number: int) -> bool:
         return self._sent is not None and self._sent.number == goal_number
+
+    def finished(self, goal_number: int) -> Optional[SentGoal]:
+        """The goal that reported its end, once; None for one already reported."""
+        return self._unfinished.pop(goal_number, None)
 
     def forget_goal(self) -> None:
         self._sent = None
@@ -611,13 +624,16 @@ class AnimateBehaviour:
         stream.send(waypoints, self.config.gesture_duration, "animate", self.joint_states, self.log)
 
     def _goal_done(self, event: GoalDone) -> None:
-        stream = self.active_parts.get(event.part)
-        if stream is None or not stream.is_current(event.goal_number):
-            return  # a goal we replaced or cancelled
+        stream = self._stream_for(event.part, event.action)
+        sent = stream.finished(event.goal_number)
+        if sent is None:
+            return
         self.log.write(log_events.GOAL_FINISHED, part=event.part, action=stream.action,
-                       purpose=stream.sent_purpose, goal=event.goal_number,
+                       purpose=sent.purpose, goal=event.goal_number,
                        state=_goal_state_name(event.state), error_code=event.error_code,
                        error_string=event.error_string)
+        if self.active_parts.get(event.part) is not stream or not stream.is_current(event.goal_number):
+            return  # a goal we replaced or cancelled: its end changes nothing
         if event.state == GoalStatus.SUCCEEDED or stream.sent_purpose == "home":
             self._finish_goal(stream)
             return
