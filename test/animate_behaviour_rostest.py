@@ -15,10 +15,13 @@ import threading
 import time
 import unittest
 
+import actionlib
 import rospkg
 import rospy
 import rostest
+from control_msgs.msg import FollowJointTrajectoryAction, FollowJointTrajectoryGoal
 from sensor_msgs.msg import JointState
+from trajectory_msgs.msg import JointTrajectoryPoint
 
 from cssr_system import log_events
 from cssr_system.activation import REPLY_FAILURE, REPLY_SUCCESS
@@ -273,6 +276,28 @@ class AnimateBehaviourTest(unittest.TestCase):
             if following:
                 self.assertLess(following[0] - finished, NEXT_GOAL_GAP_BOUND,
                                 "next {} goal after a success".format(key))
+
+    def test_first_segment_starts_where_a_gesture_left_the_arm(self):
+        # Another node's gesture leaves the right arm far from its centre (shoulder pitch 0 rad,
+        # 1.5 rad away); the first segment must start there, so it is stretched under the speed cap.
+        gesture = actionlib.SimpleActionClient(self.topics["RArm"], FollowJointTrajectoryAction)
+        self.assertTrue(gesture.wait_for_server(rospy.Duration(5)))
+        goal = FollowJointTrajectoryGoal()
+        goal.trajectory.joint_names = list(PARTS["RArm"].joints)
+        away = [0.0] + list(PARTS["RArm"].centre[1:])
+        goal.trajectory.points = [JointTrajectoryPoint(positions=away, velocities=[0.0] * 5,
+                                                       time_from_start=rospy.Duration(3.0))]
+        gesture.send_goal(goal)
+        self.assertTrue(gesture.wait_for_result(rospy.Duration(10)))
+        time.sleep(0.3)
+        goals, _ = self.run_behaviour("body", seconds=0.5)
+        first = next(message for _, key, message in goals if key == "RArm").goal.trajectory
+        distance = abs(first.points[0].positions[0] - away[0])
+        # A rest-to-rest quintic peaks at 1.875 times its mean speed.
+        shortest = 1.875 * distance / speed_limit("RShoulderPitch")
+        self.assertGreaterEqual(first.points[0].time_from_start.to_sec(),
+                                max(self.config.gesture_duration, shortest) - 1e-6,
+                                "the first segment starts from the measured position")
 
     def test_joints_move_and_stay_in_bounds(self):
         seen = {}
