@@ -30,7 +30,7 @@ from cssr_system.event_log import read_log
 from cssr_system.joint_table import JOINTS, PARTS, speed_limit
 from cssr_system.srv import setActivation
 from cssr_system.topics import WHEELS_KEY, load_topic_map
-from cssr_system.wire_recorder import WireRecorder, wait_until
+from cssr_system.wire_recorder import WireRecorder, next_goal_gaps, wait_until
 
 SERVICE = "/animateBehaviour/setActivation"
 # Generous bounds for a loaded 2-core CI machine; the strict figures are in the benchmark.
@@ -268,14 +268,10 @@ class AnimateBehaviourTest(unittest.TestCase):
         goals = self.wire.snapshot(self.wire.goals)
         # Successes of the goals sent since enabling (not of a previous test's return home).
         ours = {m.goal_id.id for at, _, m in goals if at >= self.enabled_monotonic}
-        results = [(at, key) for at, key, m in self.wire.snapshot(self.wire.results)
-                   if m.status.status == 3 and m.status.goal_id.id in ours]  # SUCCEEDED
-        self.assertTrue(results, "short goals succeed")
-        for finished, key in results:
-            following = [at for at, k, _ in goals if k == key and at >= finished]
-            if following:
-                self.assertLess(following[0] - finished, NEXT_GOAL_GAP_BOUND,
-                                "next {} goal after a success".format(key))
+        gaps = next_goal_gaps(goals, self.wire.snapshot(self.wire.results), ours)
+        self.assertTrue(gaps, "short goals succeed and are followed")
+        for key, gap in gaps:
+            self.assertLess(gap, NEXT_GOAL_GAP_BOUND, "next {} goal after a success".format(key))
 
     def test_first_segment_starts_where_a_gesture_left_the_arm(self):
         # Another node's gesture leaves the right arm far from its centre (shoulder pitch 0 rad,

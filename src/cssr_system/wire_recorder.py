@@ -6,7 +6,7 @@ import threading
 import time
 
 import rospy
-from actionlib_msgs.msg import GoalID
+from actionlib_msgs.msg import GoalID, GoalStatus
 from control_msgs.msg import FollowJointTrajectoryActionGoal, FollowJointTrajectoryActionResult
 from geometry_msgs.msg import Twist
 
@@ -67,3 +67,28 @@ def wait_until(condition, timeout, period=0.01):
             return True
         time.sleep(period)
     return condition()
+
+
+def next_goal_gaps(goals, results, goal_ids=None):
+    """(part key, seconds) from each succeeded goal's result to the goal that followed it.
+
+    Pairs by sequence, not by arrival time: the result and the next goal travel on different
+    connections, so under load the next goal may reach the observer first (a gap of 0 then).
+    `goal_ids` limits the succeeded goals considered."""
+    goal_order = {}  # part key -> goal ids in the order they were sent
+    goal_arrival = {}
+    for at, key, message in goals:
+        goal_order.setdefault(key, []).append(message.goal_id.id)
+        goal_arrival[message.goal_id.id] = at
+    gaps = []
+    for at, key, message in results:
+        goal_id = message.status.goal_id.id
+        if message.status.status != GoalStatus.SUCCEEDED or goal_id not in goal_arrival:
+            continue
+        if goal_ids is not None and goal_id not in goal_ids:
+            continue
+        order = goal_order[key]
+        position = order.index(goal_id)
+        if position + 1 < len(order):
+            gaps.append((key, max(0.0, goal_arrival[order[position + 1]] - at)))
+    return gaps

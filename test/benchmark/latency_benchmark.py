@@ -17,7 +17,7 @@ import rostest
 from cssr_system.configuration import load_configuration, topic_file_path
 from cssr_system.srv import setActivation
 from cssr_system.topics import WHEELS_KEY, load_topic_map
-from cssr_system.wire_recorder import WireRecorder, wait_until
+from cssr_system.wire_recorder import WireRecorder, next_goal_gaps, wait_until
 
 NODE = "/animateBehaviour"
 SERVICE = NODE + "/setActivation"
@@ -85,12 +85,8 @@ class LatencyBenchmark(unittest.TestCase):
         call("enabled")
         time.sleep(8.0)
         call("disabled")
-        goals = wire.snapshot(wire.goals)
-        for at, key, message in wire.snapshot(wire.results):
-            if message.status.status == 3:  # SUCCEEDED
-                following = [goal_at for goal_at, goal_key, _ in goals if goal_key == key and goal_at >= at]
-                if following:
-                    figures["next goal after a success"].append(following[0] - at)
+        figures["next goal after a success"] = [
+            gap for _, gap in next_goal_gaps(wire.snapshot(wire.goals), wire.snapshot(wire.results))]
 
         print("\nanimateBehaviour latency benchmark ({} enable/disable cycles, platform {})".format(
             cycles, config.platform))
