@@ -424,10 +424,10 @@ def save(recorder: Recorder, arguments: argparse.Namespace) -> Tuple[str, str]:
 
 
 def configured_bands(arguments: argparse.Namespace):
-    from cssr_system.configuration import ConfigurationError, load_configuration, package_data_dir, topic_file_path
+    from cssr_system.configuration import (ConfigurationError, load_configuration,
+                                           shipped_configuration_path, topic_file_path)
     from cssr_system.topics import TopicFileError, load_topic_map
-    config_file = arguments.config or os.path.join(os.path.dirname(package_data_dir()), "config",
-                                                   "animateBehaviourConfiguration.ini")
+    config_file = arguments.config or shipped_configuration_path()
     try:
         config = load_configuration(config_file, {"platform": arguments.platform,
                                                   "behaviour": arguments.behaviour})

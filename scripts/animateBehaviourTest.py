@@ -37,9 +37,10 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 
 from cssr_system import harness_checks as checks
+from cssr_system.animate_behaviour_node import NODE_PARAMETERS
 from cssr_system.base_rotation import RELATIVE, wheels_command_kind
 from cssr_system.configuration import (ConfigurationError, configuration_items, format_configuration_file,
-                                       topic_file_path)
+                                       shipped_configuration_path, topic_file_path)
 from cssr_system.event_log import ROTATED_SUFFIX, default_log_path, read_log
 from cssr_system.srv import setActivation
 from cssr_system.topics import WHEELS_KEY, TopicFileError, load_topic_map
@@ -48,9 +49,7 @@ PACKAGE = "cssr_system"
 NODE_NAME = "animateBehaviourTest"
 HARNESS_PARAMETERS = ("configFile", "reportFile", "nodeName", "nodeConfigFile", "nodeLogFile", "odometryTopic",
                       "interactive")
-NODE_OWN_PARAMETERS = ("configFile", "logFile")  # the node's private parameters that are not keys
 CONFIG_FILE_NAME = "animateBehaviourTestConfiguration.ini"
-SHIPPED_NODE_CONFIG = "animateBehaviourConfiguration.ini"
 REPORT_FILE_NAME = "animateBehaviourTestOutput.dat"
 NODE_CONFIG_FILE_NAME = "animateBehaviourHarnessNode.ini"
 SERVICE_TIMEOUT = 30.0  # s to wait for the node's service
@@ -166,7 +165,7 @@ class Harness:
             "~nodeConfigFile", os.path.join(rospkg.get_ros_home(), NODE_CONFIG_FILE_NAME)))
         try:
             checks.check_node_configuration_path(
-                self.node_config_file, os.path.join(self.package_dir, "config", SHIPPED_NODE_CONFIG))
+                self.node_config_file, shipped_configuration_path(self.package_dir))
         except ValueError as error:
             raise HarnessError(str(error)) from None
         self.node_log_file = os.path.abspath(rospy.get_param("~nodeLogFile", rospy.get_param(
@@ -227,7 +226,7 @@ class Harness:
 
     def node_overrides(self):
         return {name: str(value) for name, value in self._private_parameters(self.node_name).items()
-                if name not in NODE_OWN_PARAMETERS}
+                if name not in NODE_PARAMETERS}
 
     # -- waiting -------------------------------------------------------------------------------
     def sleep_until(self, deadline: float) -> None:

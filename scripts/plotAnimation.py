@@ -54,9 +54,8 @@ def main(argv):
                 raise ValueError("%s: no goal_sent entries during the recorded run" % arguments.log)
             recording = recording._replace(bands=bands, heading_bound=heading_bound)
         elif arguments.config or not recording.bands:
-            from cssr_system.configuration import package_data_dir
-            config_file = arguments.config or os.path.join(os.path.dirname(package_data_dir()), "config",
-                                                            "animateBehaviourConfiguration.ini")
+            from cssr_system.configuration import shipped_configuration_path
+            config_file = arguments.config or shipped_configuration_path()
             bands, heading_bound = configured_bands(config_file, recording)
             recording = recording._replace(bands=bands, heading_bound=heading_bound)
         output = arguments.output or os.path.splitext(arguments.recording)[0] + ".png"

@@ -24,7 +24,7 @@ from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import JointTrajectoryPoint
 
 from cssr_system import log_events
-from cssr_system.activation import REPLY_FAILURE, REPLY_SUCCESS
+from cssr_system.activation import REPLY_FAILURE, REPLY_SUCCESS, SERVICE_PATH
 from cssr_system.configuration import load_configuration, topic_file_path
 from cssr_system.event_log import read_log
 from cssr_system.joint_table import JOINTS, PARTS, speed_limit
@@ -32,7 +32,7 @@ from cssr_system.srv import setActivation
 from cssr_system.topics import WHEELS_KEY, load_topic_map
 from cssr_system.wire_recorder import WireRecorder, next_goal_gaps, wait_until
 
-SERVICE = "/animateBehaviour/setActivation"
+SERVICE = SERVICE_PATH
 # Generous bounds for a loaded 2-core CI machine; the strict figures are in the benchmark.
 SERVICE_REPLY_BOUND = 1.0
 STOP_BOUND = 0.5
@@ -98,7 +98,7 @@ class AnimateBehaviourTest(unittest.TestCase):
         node's log file since `since`."""
         entries = read_log(rospy.get_param("/animateBehaviour/logFile"), since=since)
         return [e for e in entries if e.event == log_events.BASE_COMMAND
-                and e.fields["purpose"] == "animate"]
+                and e.fields["purpose"] == log_events.PURPOSE_ANIMATE]
 
     def run_behaviour(self, behaviour, seconds=1.5):
         rospy.set_param("/animateBehaviour/behaviour", behaviour)

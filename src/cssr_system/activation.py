@@ -1,6 +1,10 @@
 """The setActivation service contract: accepted requests and replies (SPEC section 1)."""
 from typing import Optional
 
+NODE_NAME = "animateBehaviour"
+SERVICE_NAME = NODE_NAME + "/setActivation"  # relative: a namespace applies
+SERVICE_PATH = "/" + SERVICE_NAME  # where it is when the node runs in the root namespace
+
 ENABLED = "enabled"
 DISABLED = "disabled"
 ACCEPTED_STATES = (ENABLED, DISABLED)

@@ -29,12 +29,14 @@ from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import JointTrajectoryPoint
 
 from cssr_system import log_events
-from cssr_system.activation import (DISABLED, ENABLED, REPLY_FAILURE, REPLY_SUCCESS,
-                                    ACCEPTED_STATES, parse_activation_state)
+from cssr_system.log_events import PURPOSE_ANIMATE, PURPOSE_HOME, PURPOSE_RETURN
+from cssr_system.activation import (ACCEPTED_STATES, ENABLED, NODE_NAME, REPLY_FAILURE,
+                                    REPLY_SUCCESS, SERVICE_NAME, parse_activation_state)
 from cssr_system.base_rotation import (VELOCITY, BaseRotationPlanner, heading_after_interruption,
                                        wheels_command_kind)
 from cssr_system.configuration import (Configuration, ConfigurationError, configuration_items,
-                                       load_configuration, topic_file_path)
+                                       load_configuration, shipped_configuration_path,
+                                       topic_file_path)
 from cssr_system.event_log import EventLog, default_log_path
 from cssr_system.joint_table import PARTS
 from cssr_system.motion_plan import PartMotion, animated_parts, make_rng, random_waypoints
@@ -43,11 +45,8 @@ from cssr_system.topics import WHEELS_KEY, TopicFileError, load_topic_map
 from cssr_system.trajectory_interpolation import JointTrajectorySpline
 from cssr_system.trajectory_timing import TimedTrajectory, time_trajectory, to_points
 
-NODE_NAME = "animateBehaviour"
 PACKAGE_NAME = "cssr_system"
-SERVICE_NAME = "animateBehaviour/setActivation"  # relative: a namespace applies
 JOINT_STATES_TOPIC = "joint_states"
-CONFIG_FILE_NAME = "animateBehaviourConfiguration.ini"
 NODE_PARAMETERS = ("configFile", "logFile")  # private parameters that are not configuration keys
 
 HEARTBEAT_PERIOD = 10.0  # s between "running." lines on the console
@@ -143,7 +142,7 @@ class PartState(enum.Enum):
 
 class SentGoal(NamedTuple):
     number: int
-    purpose: str  # "animate" or "home"
+    purpose: str  # PURPOSE_ANIMATE or PURPOSE_HOME
     spline: JointTrajectorySpline  # what the controller executes, on the monotonic clock
     handle: object  # actionlib ClientGoalHandle
 
@@ -192,7 +191,7 @@ class PartStream:
         positions, velocities, accelerations = self.current_state(joint_states, now)
         # A return home from a moving joint brakes inside the band it was animated in.
         bounds = None
-        if purpose == "home" and self.motion is not None:
+        if purpose == PURPOSE_HOME and self.motion is not None:
             bounds = ([b.lower for b in self.motion.bounds], [b.upper for b in self.motion.bounds])
         timed = time_trajectory(waypoints, joints, positions, velocities, gesture_duration,
                                 start_accelerations=accelerations, position_bounds=bounds)
@@ -290,7 +289,7 @@ class BaseStream:
         self.planner.set_heading(heading)
         self.state = BaseState.ROTATING
         if self._step is None:
-            self._begin(self.planner.next_step(), now, "animate", log)
+            self._begin(self.planner.next_step(), now, PURPOSE_ANIMATE, log)
         else:
             self._step_ends_at = min(self._step_ends_at, self._step_started + self._step.busy_time)
 
@@ -309,7 +308,7 @@ class BaseStream:
         if return_home and self.planner is not None:
             self.state = BaseState.RETURNING
             if self._step is None:
-                self._begin(self.planner.return_step(), now, "return", log)
+                self._begin(self.planner.return_step(), now, PURPOSE_RETURN, log)
 
     def next_deadline(self) -> Optional[float]:
         if self._step is None:
@@ -332,9 +331,9 @@ class BaseStream:
         ended = self._step_purpose
         self._step = None
         if self.state == BaseState.ROTATING:
-            self._begin(self.planner.next_step(), now, "animate", log)
-        elif self.state == BaseState.RETURNING and ended != "return":
-            self._begin(self.planner.return_step(), now, "return", log)
+            self._begin(self.planner.next_step(), now, PURPOSE_ANIMATE, log)
+        elif self.state == BaseState.RETURNING and ended != PURPOSE_RETURN:
+            self._begin(self.planner.return_step(), now, PURPOSE_RETURN, log)
         else:
             self.state = BaseState.IDLE
 
@@ -372,7 +371,7 @@ class AnimateBehaviour:
     def __init__(self) -> None:
         self.package_dir = package_dir()
         self.version = package_version(self.package_dir)
-        self.default_config_file = os.path.join(self.package_dir, "config", CONFIG_FILE_NAME)
+        self.default_config_file = shipped_configuration_path(self.package_dir)
         self.log = EventLog(rospy.get_param("~logFile", default_log_path(
             self.package_dir, os.environ.get("ROS_HOME"))))
         self.joint_states = JointStateCache()
@@ -595,10 +594,10 @@ class AnimateBehaviour:
 
     def _stop_part(self, stream: PartStream, home: bool) -> None:
         stream.retry_at = None
-        if stream.state in (PartState.ANIMATING, PartState.WAITING) and stream.sent_purpose == "animate":
+        if stream.state in (PartState.ANIMATING, PartState.WAITING) and stream.sent_purpose == PURPOSE_ANIMATE:
             if home and stream.connected:
                 centre = numpy.array([PARTS[stream.part].centre])
-                timed = stream.send(centre, HOME_GESTURE_DURATION, "home", self.joint_states, self.log)
+                timed = stream.send(centre, HOME_GESTURE_DURATION, PURPOSE_HOME, self.joint_states, self.log)
                 if timed.times[-1] > HOME_MAX_DURATION:
                     rospy.logwarn("%s: %s returns to its centre in %.1f s (speed cap).", NODE_NAME,
                                   stream.part, timed.times[-1])
@@ -621,7 +620,7 @@ class AnimateBehaviour:
 
     def _send_random_goal(self, stream: PartStream) -> None:
         waypoints = random_waypoints(stream.motion, self.config, self.rng)
-        stream.send(waypoints, self.config.gesture_duration, "animate", self.joint_states, self.log)
+        stream.send(waypoints, self.config.gesture_duration, PURPOSE_ANIMATE, self.joint_states, self.log)
 
     def _goal_done(self, event: GoalDone) -> None:
         stream = self._stream_for(event.part, event.action)
@@ -634,7 +633,7 @@ class AnimateBehaviour:
                        error_string=event.error_string)
         if self.active_parts.get(event.part) is not stream or not stream.is_current(event.goal_number):
             return  # a goal we replaced or cancelled: its end changes nothing
-        if event.state == GoalStatus.SUCCEEDED or stream.sent_purpose == "home":
+        if event.state == GoalStatus.SUCCEEDED or stream.sent_purpose == PURPOSE_HOME:
             self._finish_goal(stream)
             return
         rospy.logwarn("%s: %s goal ended %s (%s); trying again in %.0f s.", NODE_NAME, event.part,
@@ -646,7 +645,7 @@ class AnimateBehaviour:
         """A goal of ours ended as planned: a part going home is done, an animating one goes on."""
         purpose = stream.sent_purpose
         stream.forget_goal()
-        if purpose == "home":
+        if purpose == PURPOSE_HOME:
             stream.state = PartState.IDLE
             self.active_parts.pop(stream.part, None)
         elif self.enabled and stream.state == PartState.ANIMATING:

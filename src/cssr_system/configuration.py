@@ -47,10 +47,11 @@ import textwrap
 from collections import OrderedDict
 from typing import Callable, Dict, FrozenSet, List, Mapping, NamedTuple, Optional, Sequence, Tuple
 
-from cssr_system.joint_table import BASE_MAX_ANGULAR_VELOCITY, PARTS
+from cssr_system.joint_table import BASE_MAX_ANGULAR_VELOCITY, PARTS, short_name
 from cssr_system.topics import (TopicFileError, cannot_read, join_problems, key_value_lines,
                                 load_topic_map, one_line, read_text_file, unknown_key)
 
+CONFIGURATION_FILE_NAME = "animateBehaviourConfiguration.ini"  # the shipped file, in config/
 BEHAVIOURS: Tuple[str, ...] = ("body", "hands", "rotation")
 PLATFORMS: Tuple[str, ...] = ("robot", "simulator")
 ALL_BEHAVIOURS = "all"
@@ -256,7 +257,7 @@ def _format_random_seed(value: object) -> str:
 
 def _short_joint_names(part_key: str) -> Tuple[str, ...]:
     """Joint names of a part without their side letter (RShoulderPitch -> ShoulderPitch)."""
-    return tuple(name[1:] if name[0] in "LR" and name[1].isupper() else name for name in PARTS[part_key].joints)
+    return tuple(short_name(name) for name in PARTS[part_key].joints)
 
 
 _ARM_JOINTS = _short_joint_names("RArm")
@@ -336,6 +337,14 @@ class _Value(NamedTuple):
     value: object
 
 
+def shipped_configuration_path(package_dir: Optional[str] = None) -> str:
+    """The package's own configuration file (``config/animateBehaviourConfiguration.ini``) in
+    `package_dir`, by default the package this module belongs to."""
+    if package_dir is None:
+        package_dir = os.path.dirname(package_data_dir())
+    return os.path.join(package_dir, "config", CONFIGURATION_FILE_NAME)
+
+
 def package_data_dir() -> str:
     """The package's ``data`` folder: ``data`` beside ``src`` (this module is in src/cssr_system)."""
     module_folder = os.path.dirname(os.path.abspath(__file__))
@@ -369,7 +378,7 @@ def _scalar_text(value: object) -> str:
     raise TypeError(type(value).__name__)
 
 
-def _override_text(value: object) -> str:
+def override_text(value: object) -> str:
     """The text form of a parameter value; TypeError for a type that has none."""
     if isinstance(value, (list, tuple)):
         return ",".join(_scalar_text(item) for item in value)
@@ -459,12 +468,12 @@ def parse_configuration(text: str, source: str, overrides: Optional[Mapping[str,
             continue
         values.pop(key, None)  # the parameter replaces the file's value, valid or not
         try:
-            override_text = _override_text(override)
+            text = override_text(override)
         except TypeError as error:
             problems.append("{} = {!r}: expected {} (a parameter of type {} is not accepted)".format(
                 where, override, spec.expected, error))
             continue
-        checked = check_value(spec, override_text, where, where, repr(override), problems)
+        checked = check_value(spec, text, where, where, repr(override), problems)
         if checked is not None:
             values[key] = checked
 

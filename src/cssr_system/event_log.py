@@ -222,12 +222,13 @@ def read_log(path: str, since: Optional[datetime.datetime] = None) -> List[LogEn
     return entries
 
 
-def default_log_path(package_dir: str, ros_home: Optional[str]) -> str:
-    """``<package_dir>/data/animateBehaviourLogFile.log`` when it can be written (the folder, or
-    the package when the folder does not exist yet, and the file when it exists); otherwise
-    ``<ros_home or ~/.ros>/animateBehaviourLogFile.log``.  Decided with ``os.access``."""
+def default_log_path(package_dir: str, ros_home: Optional[str], file_name: str = LOG_FILE_NAME) -> str:
+    """``<package_dir>/data/<file_name>`` when it can be written (the folder, or the package when
+    the folder does not exist yet, and the file when it exists); otherwise
+    ``<ros_home or ~/.ros>/<file_name>``.  Decided with ``os.access``. The file name defaults to
+    the node's log file; the test harness puts its report in the same place."""
     data_dir = os.path.join(package_dir, "data")
-    preferred = os.path.join(data_dir, LOG_FILE_NAME)
+    preferred = os.path.join(data_dir, file_name)
     if os.path.isdir(data_dir):
         writable = os.access(data_dir, os.W_OK) and \
             (not os.path.exists(preferred) or os.access(preferred, os.W_OK))
@@ -236,7 +237,7 @@ def default_log_path(package_dir: str, ros_home: Optional[str]) -> str:
     if writable:
         return preferred
     home = ros_home if ros_home else os.path.join(os.path.expanduser("~"), ".ros")
-    return os.path.join(home, LOG_FILE_NAME)
+    return os.path.join(home, file_name)
 
 
 def _refuse_constant(name: str) -> Any:

@@ -101,6 +101,25 @@ def joint(name: str) -> Joint:
     return JOINTS[name]
 
 
+def part_of(joint_name: str) -> str:
+    """Key of the animated part whose controller drives `joint_name`; KeyError for any other."""
+    for key, part in PARTS.items():
+        if joint_name in part.joints:
+            return key
+    raise KeyError("joint {!r} is not animated by this package".format(joint_name))
+
+
+def centre_of(joint_name: str) -> float:
+    """The rest position of an animated joint: the centre of its random motion."""
+    part = PARTS[part_of(joint_name)]
+    return part.centre[part.joints.index(joint_name)]
+
+
+def short_name(joint_name: str) -> str:
+    """A joint's name without its side letter: RShoulderPitch -> ShoulderPitch, HipRoll unchanged."""
+    return joint_name[1:] if joint_name[0] in "LR" and joint_name[1].isupper() else joint_name
+
+
 def speed_limit(name: str) -> float:
     """The highest speed this package commands for a joint (rad/s, or unit/s for a hand)."""
     return JOINTS[name].max_velocity * SPEED_FRACTION

@@ -18,7 +18,7 @@ from typing import Iterable, NamedTuple, Optional, Tuple
 
 import numpy
 
-from cssr_system.joint_table import JOINTS, PARTS
+from cssr_system.joint_table import JOINTS, PARTS, centre_of, part_of, short_name
 
 ARM_PARTS: Tuple[str, ...] = ("RArm", "LArm")
 HAND_PARTS: Tuple[str, ...] = ("RHand", "LHand")
@@ -46,22 +46,9 @@ class PartMotion(NamedTuple):
     is_leg: bool  # positions follow leg_pattern
 
 
-def _part_of(joint_name: str) -> str:
-    for key, part in PARTS.items():
-        if joint_name in part.joints:
-            return key
-    raise KeyError("joint {!r} is not animated by this package".format(joint_name))
-
-
-def centre(joint_name: str) -> float:
-    """The rest position the random motion of a joint is centred on."""
-    part = PARTS[_part_of(joint_name)]
-    return part.centre[part.joints.index(joint_name)]
-
-
 def maximum_range(config, joint_name: str) -> float:
     """The configuration's maximum-range fraction that applies to `joint_name`."""
-    key = _part_of(joint_name)
+    key = part_of(joint_name)
     index = PARTS[key].joints.index(joint_name)
     if key in ARM_PARTS:
         return float(config.arm_maximum_range[index])
@@ -73,7 +60,7 @@ def maximum_range(config, joint_name: str) -> float:
 def joint_bounds(config, joint_name: str) -> JointBounds:
     """LB and UB of a moving joint (module docstring formula)."""
     limits = JOINTS[joint_name]
-    middle = centre(joint_name)
+    middle = centre_of(joint_name)
     full_range = limits.upper - limits.lower
     maximum_oscillation = full_range * maximum_range(config, joint_name)
     selected_half_range = maximum_oscillation * config.selected_range / 2.0
@@ -87,7 +74,7 @@ def joint_bounds(config, joint_name: str) -> JointBounds:
 
 def held_bounds(joint_name: str) -> JointBounds:
     """Bounds of a joint held at its centre."""
-    middle = centre(joint_name)
+    middle = centre_of(joint_name)
     return JointBounds(joint_name, middle, middle, middle)
 
 
@@ -99,7 +86,7 @@ def _moving_joints(behaviour, part_key: str) -> Tuple[bool, ...]:
     if part_key in ARM_PARTS:
         if body:
             return tuple(True for _ in joints)
-        return tuple(hands and name[1:] in HANDS_ARM_JOINTS for name in joints)
+        return tuple(hands and short_name(name) in HANDS_ARM_JOINTS for name in joints)
     if part_key in HAND_PARTS:
         return tuple(body or hands for _ in joints)
     return tuple(body for _ in joints)  # the leg

@@ -14,13 +14,14 @@ import unittest
 import rospy
 import rostest
 
+from cssr_system.activation import NODE_NAME, SERVICE_PATH
 from cssr_system.configuration import load_configuration, topic_file_path
 from cssr_system.srv import setActivation
 from cssr_system.topics import WHEELS_KEY, load_topic_map
 from cssr_system.wire_recorder import WireRecorder, next_goal_gaps, wait_until
 
-NODE = "/animateBehaviour"
-SERVICE = NODE + "/setActivation"
+NODE = "/" + NODE_NAME
+SERVICE = SERVICE_PATH
 TARGETS = {  # seconds, SPEC section 5
     "service reply": 0.100,
     "first goal of every part after enabled": 0.100,
