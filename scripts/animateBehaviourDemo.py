@@ -32,11 +32,9 @@ import numpy
 
 from cssr_system.animation_plot import (
     BASE_LABEL,
-    DISABLED,
-    ENABLED,
     MOTION_THRESHOLD,
     Recording,
-    bands_from_configuration,
+    bands_from_configuration_file,
     bands_from_log,
     moving_parts,
     plot_recording,
@@ -44,11 +42,12 @@ from cssr_system.animation_plot import (
     write_recording,
     yaw_from_quaternion,
 )
+from cssr_system.activation import DISABLED, ENABLED, REPLY_SUCCESS, SERVICE_PATH
+from cssr_system.event_log import LOG_FILE_NAME, ROTATED_SUFFIX
 from cssr_system.joint_table import PARTS, WHEEL_JOINTS
 from cssr_system.simulated_pepper import PLATFORMS, odometry_topic
 
 PROGRAM = "animateBehaviourDemo"
-SERVICE_NAME = "/animateBehaviour/setActivation"
 LAUNCH_FILE = "animateBehaviourDemo.launch"
 DEFAULT_DURATION = 30.0  # s enabled
 REST_BEFORE = 1.0  # s recorded before enabling: the rest posture
@@ -266,11 +265,11 @@ def call_activation(state: str) -> None:
     import rospy
     from cssr_system.srv import setActivation
     try:
-        rospy.wait_for_service(SERVICE_NAME, timeout=SERVICE_CALL_TIMEOUT)
-        reply = rospy.ServiceProxy(SERVICE_NAME, setActivation)(state).success
+        rospy.wait_for_service(SERVICE_PATH, timeout=SERVICE_CALL_TIMEOUT)
+        reply = rospy.ServiceProxy(SERVICE_PATH, setActivation)(state).success
     except (rospy.ServiceException, rospy.ROSException) as error:
-        raise DemoError("%s %s failed: %s" % (SERVICE_NAME, state, error)) from None
-    if reply != "1":
+        raise DemoError("%s %s failed: %s" % (SERVICE_PATH, state, error)) from None
+    if reply != REPLY_SUCCESS:
         raise DemoError("animateBehaviour refused %r (reply %r); see its log" % (state, reply))
 
 
@@ -315,7 +314,7 @@ def wait_until(condition, timeout: float, launch: subprocess.Popen, launch_outpu
 def service_available() -> bool:
     import rospy
     try:
-        rospy.wait_for_service(SERVICE_NAME, timeout=0.2)
+        rospy.wait_for_service(SERVICE_PATH, timeout=0.2)
         return True
     except rospy.ROSException:
         return False
@@ -349,8 +348,8 @@ def run(arguments: argparse.Namespace, processes: Dict[str, subprocess.Popen], r
     else:
         say("%s: using the master already running on %s" % (PROGRAM, master_uri))
 
-    log_file = os.path.join(output_dir, "animateBehaviourLogFile.log")
-    for stale in (log_file, log_file + ".1"):
+    log_file = node_log_path(output_dir)
+    for stale in (log_file, log_file + ROTATED_SUFFIX):
         if os.path.exists(stale):
             os.remove(stale)  # the plot's bands come from this run's entries only
     command = ["roslaunch", "cssr_system", LAUNCH_FILE, "platform:=" + arguments.platform,
@@ -404,7 +403,7 @@ def run(arguments: argparse.Namespace, processes: Dict[str, subprocess.Popen], r
 def save(recorder: Recorder, arguments: argparse.Namespace) -> Tuple[str, str]:
     """Write the recording and its plot; bands from the node's log, else from the configuration."""
     from cssr_system.event_log import read_log
-    log_file = os.path.join(arguments.output_dir, "animateBehaviourLogFile.log")
+    log_file = node_log_path(arguments.output_dir)
     bands, heading_bound = {}, None
     if os.path.exists(log_file):
         try:
@@ -424,19 +423,14 @@ def save(recorder: Recorder, arguments: argparse.Namespace) -> Tuple[str, str]:
 
 
 def configured_bands(arguments: argparse.Namespace):
-    from cssr_system.configuration import (ConfigurationError, load_configuration,
-                                           shipped_configuration_path, topic_file_path)
-    from cssr_system.topics import TopicFileError, load_topic_map
-    config_file = arguments.config or shipped_configuration_path()
+    """Bands and heading bound of the demo's configuration, for the plot; none when it is invalid."""
+    from cssr_system.configuration import shipped_configuration_path
     try:
-        config = load_configuration(config_file, {"platform": arguments.platform,
-                                                  "behaviour": arguments.behaviour})
-        parts = load_topic_map(topic_file_path(config)).topics
-    except (ConfigurationError, TopicFileError) as error:
+        return bands_from_configuration_file(arguments.config or shipped_configuration_path(),
+                                             {"platform": arguments.platform, "behaviour": arguments.behaviour})
+    except ValueError as error:
         say("%s: no bands in the plot: %s" % (PROGRAM, error))
         return {}, None
-    return bands_from_configuration(config, parts), \
-        (config.heading_bound if "rotation" in config.behaviour else None)
 
 
 def parse_arguments(argv: Sequence[str]) -> argparse.Namespace:
@@ -463,9 +457,18 @@ def parse_arguments(argv: Sequence[str]) -> argparse.Namespace:
     return arguments
 
 
+def node_log_path(output_dir: str) -> str:
+    return os.path.join(output_dir, LOG_FILE_NAME)
+
+
 def main(argv: Sequence[str]) -> int:
     arguments = parse_arguments(argv)
-    os.makedirs(arguments.output_dir, exist_ok=True)
+    try:
+        os.makedirs(arguments.output_dir, exist_ok=True)
+    except OSError as error:
+        say("%s: error: cannot create the output folder %s: %s" % (PROGRAM, arguments.output_dir,
+                                                                   error.strerror or error))
+        return 1
     become_subreaper()
 
     def interrupt(signal_number, frame):
@@ -479,6 +482,9 @@ def main(argv: Sequence[str]) -> int:
     try:
         run(arguments, processes, recorder_box)
     except DemoError as error:
+        say("%s: error: %s" % (PROGRAM, error))
+        status = 1
+    except OSError as error:  # a file of the run could not be written or removed
         say("%s: error: %s" % (PROGRAM, error))
         status = 1
     except Interrupted:
@@ -501,9 +507,13 @@ def main(argv: Sequence[str]) -> int:
         terminate_all(descendants(os.getpid()))
         reap_zombies([])
     if recorder_box and recorder_box[0].has_joint_states() and status != 1:
-        recording_path, png_path = save(recorder_box[0], arguments)
+        try:
+            recording_path, png_path = save(recorder_box[0], arguments)
+        except OSError as error:
+            say("%s: error: cannot write the recording or the plot: %s" % (PROGRAM, error))
+            return 1
         say("%s: recording %s" % (PROGRAM, recording_path))
-        say("%s: node log  %s" % (PROGRAM, os.path.join(arguments.output_dir, "animateBehaviourLogFile.log")))
+        say("%s: node log  %s" % (PROGRAM, node_log_path(arguments.output_dir)))
         say("%s: plot      %s" % (PROGRAM, png_path))
     return status
 

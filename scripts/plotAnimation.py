@@ -14,24 +14,11 @@ import os
 import sys
 
 from cssr_system.animation_plot import (
-    bands_from_configuration,
+    bands_from_configuration_file,
     bands_from_log,
     plot_recording,
     read_recording,
 )
-
-
-def configured_bands(config_file, recording):
-    from cssr_system.configuration import ConfigurationError, load_configuration, topic_file_path
-    from cssr_system.topics import TopicFileError, load_topic_map
-    overrides = {key: recording.info[key] for key in ("platform", "behaviour") if recording.info.get(key)}
-    try:
-        config = load_configuration(config_file, overrides)
-        parts = load_topic_map(topic_file_path(config)).topics
-    except (ConfigurationError, TopicFileError) as error:
-        raise ValueError(str(error)) from None
-    return bands_from_configuration(config, parts), \
-        (config.heading_bound if "rotation" in config.behaviour else None)
 
 
 def main(argv):
@@ -56,7 +43,8 @@ def main(argv):
         elif arguments.config or not recording.bands:
             from cssr_system.configuration import shipped_configuration_path
             config_file = arguments.config or shipped_configuration_path()
-            bands, heading_bound = configured_bands(config_file, recording)
+            overrides = {key: recording.info[key] for key in ("platform", "behaviour") if recording.info.get(key)}
+            bands, heading_bound = bands_from_configuration_file(config_file, overrides)
             recording = recording._replace(bands=bands, heading_bound=heading_bound)
         output = arguments.output or os.path.splitext(arguments.recording)[0] + ".png"
         print(plot_recording(recording, output))

@@ -47,12 +47,11 @@ from typing import Any, Dict, Iterable, List, Mapping, NamedTuple, Optional, Seq
 import numpy
 
 from cssr_system import log_events
+from cssr_system.activation import DISABLED, ENABLED
 from cssr_system.joint_table import PARTS
 
 RECORDING_FORMAT = "cssr_system/animation-recording"
 RECORDING_VERSION = 1
-ENABLED = "enabled"
-DISABLED = "disabled"
 BASE_LABEL = "base"
 # A joint (rad, or hand opening 0..1) or the heading (rad) "moves" when it spans more than this in
 # a window: well above the simulator's numerical noise, well below the smallest gesture.
@@ -241,7 +240,8 @@ def bands_from_log(entries: Iterable[Any], since: Optional[float] = None,
             continue
         if entry.event == log_events.BEHAVIOUR_STARTED and fields.get("wheels"):
             heading_bound = configured_bound
-        if entry.event != log_events.GOAL_SENT or fields.get("purpose", "animate") != "animate":
+        purpose = fields.get("purpose", log_events.PURPOSE_ANIMATE)
+        if entry.event != log_events.GOAL_SENT or purpose != log_events.PURPOSE_ANIMATE:
             continue
         joints = fields.get("joints") or []
         lower = fields.get("lower") or []
@@ -259,6 +259,21 @@ def bands_from_log(entries: Iterable[Any], since: Optional[float] = None,
                                  known.centre, known.moving or band.moving)
             bands[name] = band
     return bands, heading_bound
+
+
+def bands_from_configuration_file(config_file: str, overrides: Optional[Dict[str, str]] = None
+                                  ) -> Tuple["OrderedDict[str, JointBand]", Optional[float]]:
+    """The joint bands and the heading bound (None without rotation) of a configuration file, with
+    `overrides` of its keys (e.g. platform, behaviour); ValueError with one line when it is invalid."""
+    from cssr_system.configuration import ConfigurationError, load_configuration, topic_file_path
+    from cssr_system.topics import TopicFileError, load_topic_map
+    try:
+        config = load_configuration(config_file, overrides)
+        parts = load_topic_map(topic_file_path(config)).topics
+    except (ConfigurationError, TopicFileError) as error:
+        raise ValueError(str(error)) from None
+    heading_bound = config.heading_bound if "rotation" in config.behaviour else None
+    return bands_from_configuration(config, parts), heading_bound
 
 
 def bands_from_configuration(config: Any, available_parts: Iterable[str]) -> "OrderedDict[str, JointBand]":

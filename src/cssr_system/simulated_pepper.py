@@ -30,6 +30,7 @@ from typing import Any, Dict, List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy
 
+from .base_rotation import RELATIVE, wheels_command_kind
 from .joint_table import (
     BASE_MAX_ANGULAR_ACCELERATION,
     BASE_MAX_ANGULAR_VELOCITY,
@@ -51,7 +52,6 @@ INVALID_GOAL = -1
 INVALID_JOINTS = -2
 
 # Base command kinds.
-RELATIVE, VELOCITY = "relative", "velocity"
 
 
 class Platform(NamedTuple):
@@ -60,16 +60,20 @@ class Platform(NamedTuple):
     name: str
     namespace: str
     controller_keys: Tuple[str, ...]  # keys of PARTS, or HEAD_PART.key
-    base_topic: str  # relative to the namespace
-    base_kind: str  # RELATIVE or VELOCITY
+    base_topic: str  # relative to the namespace; its name says how commands are meant
+
+    @property
+    def base_kind(self) -> str:
+        """RELATIVE or VELOCITY, decided from the topic name as the node decides it."""
+        return wheels_command_kind(self.base_topic)
 
 
 PLATFORMS: Dict[str, Platform] = OrderedDict(
     (platform.name, platform)
     for platform in (
         Platform("robot", "/pepper_dcm", ("RArm", "LArm", "RHand", "LHand", "Leg", HEAD_PART.key),
-                 "cmd_moveto", RELATIVE),
-        Platform("simulator", "/pepper", ("RArm", "LArm", "Leg", HEAD_PART.key), "cmd_vel", VELOCITY),
+                 "cmd_moveto"),
+        Platform("simulator", "/pepper", ("RArm", "LArm", "Leg", HEAD_PART.key), "cmd_vel"),
     )
 )
 
