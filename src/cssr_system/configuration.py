@@ -48,8 +48,8 @@ from collections import OrderedDict
 from typing import Callable, Dict, FrozenSet, List, Mapping, NamedTuple, Optional, Sequence, Tuple
 
 from cssr_system.joint_table import BASE_MAX_ANGULAR_VELOCITY, PARTS, short_name
-from cssr_system.topics import (TopicFileError, cannot_read, join_problems, key_value_lines,
-                                load_topic_map, one_line, read_text_file, unknown_key)
+from cssr_system.topics import (TopicFileError, distinct_known_lines, join_problems, load_topic_map,
+                                one_line, read_key_value_file, unknown_key)
 
 CONFIGURATION_FILE_NAME = "animateBehaviourConfiguration.ini"  # the shipped file, in config/
 BEHAVIOURS: Tuple[str, ...] = ("body", "hands", "rotation")
@@ -444,21 +444,13 @@ def parse_configuration(text: str, source: str, overrides: Optional[Mapping[str,
     (default: the package's data folder). Raises ConfigurationError listing every problem."""
     problems: List[str] = []
     values: Dict[str, _Value] = {}
-    first_lines: Dict[str, int] = {}
-    for line in key_value_lines(text):
-        where = "{}:{}".format(source, line.number)
-        spec = KEYS.get(line.key)
-        if spec is None:
-            problems.append("{}: {}".format(where, unknown_key(line.key, tuple(KEYS))))
-        elif line.key in first_lines:
-            problems.append("{}: duplicated key {} (first at line {})".format(
-                where, line.key, first_lines[line.key]))
-        else:
-            first_lines[line.key] = line.number
-            checked = check_value(spec, line.value, where, "{}: {}".format(where, line.key), repr(line.value),
-                             problems)
-            if checked is not None:
-                values[line.key] = checked
+    in_file = set()
+    for where, line in distinct_known_lines(text, source, tuple(KEYS), problems):
+        in_file.add(line.key)
+        checked = check_value(KEYS[line.key], line.value, where, "{}: {}".format(where, line.key),
+                              repr(line.value), problems)
+        if checked is not None:
+            values[line.key] = checked
 
     for key, override in (overrides or {}).items():
         where = "parameter ~{}".format(key)
@@ -477,7 +469,7 @@ def parse_configuration(text: str, source: str, overrides: Optional[Mapping[str,
         if checked is not None:
             values[key] = checked
 
-    supplied = set(first_lines) | set(overrides or {})
+    supplied = in_file | set(overrides or {})
     for spec in KEYS.values():
         if spec.required and spec.name not in supplied:
             problems.append("{}: missing key {} (expected {})".format(source, spec.name, spec.expected))
@@ -494,11 +486,7 @@ def load_configuration(path: str, overrides: Optional[Mapping[str, object]] = No
                        data_dir: Optional[str] = None) -> Configuration:
     """The configuration in the file at `path` (see `parse_configuration`). Raises ConfigurationError,
     also when the file cannot be read."""
-    try:
-        text = read_text_file(path)
-    except (OSError, UnicodeError, ValueError, TypeError) as error:
-        raise ConfigurationError([cannot_read(path, error)]) from None
-    return parse_configuration(text, path, overrides, data_dir)
+    return parse_configuration(read_key_value_file(path, ConfigurationError), path, overrides, data_dir)
 
 
 # ---------------------------------------------------------------------------------------------------

@@ -23,7 +23,7 @@ as one `TopicFileError`.
 import difflib
 import re
 from collections import OrderedDict
-from typing import Dict, Iterable, List, Mapping, NamedTuple, Sequence
+from typing import Dict, Iterable, Iterator, List, Mapping, NamedTuple, Sequence, Tuple
 
 from cssr_system.joint_table import PARTS
 
@@ -90,6 +90,33 @@ def read_text_file(path: str) -> str:
         return stream.read()
 
 
+def read_key_value_file(path: str, error_type) -> str:
+    """The text of the file at `path`; when it cannot be read, raises `error_type` (an error class
+    taking a list of problems) with the one problem that says so."""
+    try:
+        return read_text_file(path)
+    except (OSError, UnicodeError, ValueError, TypeError) as error:
+        raise error_type([cannot_read(path, error)]) from None
+
+
+def distinct_known_lines(text: str, source: str, known: Sequence[str],
+                         problems: List[str]) -> Iterator[Tuple[str, KeyValueLine]]:
+    """Yields (location ``source:line``, line) for every line whose key is in `known` and appears
+    for the first time; each unknown or duplicated key adds its problem to `problems` as it comes,
+    so that problems stay in line order."""
+    first_lines: Dict[str, int] = {}
+    for line in key_value_lines(text):
+        where = "{}:{}".format(source, line.number)
+        if line.key not in known:
+            problems.append("{}: {}".format(where, unknown_key(line.key, known)))
+        elif line.key in first_lines:
+            problems.append("{}: duplicated key {} (first at line {})".format(
+                where, line.key, first_lines[line.key]))
+        else:
+            first_lines[line.key] = line.number
+            yield where, line
+
+
 def cannot_read(path: object, error: Exception) -> str:
     """The one-line problem for a file that cannot be read."""
     if isinstance(error, UnicodeError):
@@ -125,26 +152,17 @@ def topic_name_problem(value: str) -> str:
 
 def parse_topic_map(text: str, source: str) -> TopicMap:
     """The topic map in `text`; `source` names the file in messages. Raises TopicFileError."""
-    problems = []
-    first_lines: Dict[str, int] = {}
+    problems: List[str] = []
     found: Dict[str, str] = {}
-    for line in key_value_lines(text):
-        where = "{}:{}".format(source, line.number)
-        if line.key not in TOPIC_KEYS:
-            problems.append("{}: {}".format(where, unknown_key(line.key, TOPIC_KEYS)))
-        elif line.key in first_lines:
-            problems.append("{}: duplicated key {} (first at line {})".format(
-                where, line.key, first_lines[line.key]))
+    for where, line in distinct_known_lines(text, source, TOPIC_KEYS, problems):
+        if not line.value:
+            problems.append("{}: {} has no topic name (expected a ROS graph name)".format(where, line.key))
+            continue
+        problem = topic_name_problem(line.value)
+        if problem:
+            problems.append("{}: {} = {!r}: {}".format(where, line.key, line.value, problem))
         else:
-            first_lines[line.key] = line.number
-            if not line.value:
-                problems.append("{}: {} has no topic name (expected a ROS graph name)".format(where, line.key))
-                continue
-            problem = topic_name_problem(line.value)
-            if problem:
-                problems.append("{}: {} = {!r}: {}".format(where, line.key, line.value, problem))
-            else:
-                found[line.key] = line.value
+            found[line.key] = line.value
     if not problems and not found:
         problems.append("{}: no topics (expected lines 'Key topic' with Key one of: {})".format(
             source, ", ".join(TOPIC_KEYS)))
@@ -155,8 +173,4 @@ def parse_topic_map(text: str, source: str) -> TopicMap:
 
 def load_topic_map(path: str) -> TopicMap:
     """The topic map in the file at `path`. Raises TopicFileError, also when the file cannot be read."""
-    try:
-        text = read_text_file(path)
-    except (OSError, UnicodeError, ValueError, TypeError) as error:
-        raise TopicFileError([cannot_read(path, error)]) from None
-    return parse_topic_map(text, path)
+    return parse_topic_map(read_key_value_file(path, TopicFileError), path)
