@@ -23,7 +23,6 @@ Started by rostest (--gtest_output), the tests run as unittest cases with JUnit 
 the exit status is 0 when every test passed, 1 when one failed, 2 when the harness could not run.
 """
 import datetime
-import math
 import os
 import sys
 import threading
@@ -36,8 +35,10 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 
+from cssr_system import activation
 from cssr_system import harness_checks as checks
 from cssr_system.animate_behaviour_node import NODE_PARAMETERS
+from cssr_system.animation_plot import unwrap_heading, yaw_from_quaternion
 from cssr_system.base_rotation import RELATIVE, wheels_command_kind
 from cssr_system.configuration import (ConfigurationError, configuration_items, format_configuration_file,
                                        shipped_configuration_path, topic_file_path)
@@ -55,17 +56,11 @@ NODE_CONFIG_FILE_NAME = "animateBehaviourHarnessNode.ini"
 SERVICE_TIMEOUT = 30.0  # s to wait for the node's service
 JOINT_STATES_TIMEOUT = 10.0  # s to wait for the robot's first /joint_states
 ODOMETRY_TIMEOUT = 2.0  # s to wait for odometry before using the Wheels commands
-CALL_TIMEOUT = 5.0  # s for one service call
 POLL_PERIOD = 0.05
 
 
 class HarnessError(Exception):
     """The harness cannot run (a message for the user, never a traceback)."""
-
-
-def yaw_of(orientation) -> float:
-    return math.atan2(2.0 * (orientation.w * orientation.z + orientation.x * orientation.y),
-                      1.0 - 2.0 * (orientation.y ** 2 + orientation.z ** 2))
 
 
 class Recorder:
@@ -78,8 +73,7 @@ class Recorder:
         self._recording = False
         self.joint_states_seen = threading.Event()
         self.odometry_seen = threading.Event()
-        self._last_yaw = None
-        self._unwrapped = 0.0
+        self._heading = None  # unwrapped, so a turn across +-pi stays continuous
         rospy.Subscriber("/joint_states", JointState, self._on_joint_state, queue_size=50)
         if odometry_topic:
             rospy.Subscriber(odometry_topic, Odometry, self._on_odometry, queue_size=50)
@@ -97,15 +91,12 @@ class Recorder:
     def _on_odometry(self, message: Odometry) -> None:
         now = time.time()
         self.odometry_seen.set()
-        yaw = yaw_of(message.pose.pose.orientation)
-        with self._lock:  # unwrap, so a turn across +-pi stays continuous
-            if self._last_yaw is not None:
-                self._unwrapped += math.atan2(math.sin(yaw - self._last_yaw), math.cos(yaw - self._last_yaw))
-            else:
-                self._unwrapped = yaw
-            self._last_yaw = yaw
+        orientation = message.pose.pose.orientation
+        yaw = yaw_from_quaternion(orientation.x, orientation.y, orientation.z, orientation.w)
+        with self._lock:
+            self._heading = unwrap_heading(self._heading, yaw)
             if self._recording:
-                self._headings.append(checks.HeadingSample(now, self._unwrapped))
+                self._headings.append(checks.HeadingSample(now, self._heading))
 
     def _on_twist(self, message: Twist) -> None:
         if self._recording:
@@ -125,14 +116,6 @@ class Recorder:
         with self._lock:
             self._recording = False
         return self.snapshot()
-
-
-def default_report_path(package_dir: str) -> str:
-    data_dir = os.path.join(package_dir, "data")
-    preferred = os.path.join(data_dir, REPORT_FILE_NAME)
-    if os.access(data_dir, os.W_OK) and (not os.path.exists(preferred) or os.access(preferred, os.W_OK)):
-        return preferred
-    return os.path.join(rospkg.get_ros_home(), REPORT_FILE_NAME)
 
 
 def started_by_rostest(argv) -> bool:
@@ -157,8 +140,9 @@ class Harness:
             self.config = checks.load_harness_configuration(self.config_file, overrides, self.data_dir)
         except ConfigurationError as error:
             raise HarnessError("invalid test configuration: {}".format(error)) from None
-        self.node_name = rospy.resolve_name(rospy.get_param("~nodeName", "/animateBehaviour"))
-        self.service_name = self.node_name + "/setActivation"
+        self.node_name = rospy.resolve_name(rospy.get_param("~nodeName", "/" + activation.NODE_NAME))
+        # The node offers its service under its namespace (activation.SERVICE_NAME is relative).
+        self.service_name = rospy.names.ns_join(rospy.names.namespace(self.node_name), activation.SERVICE_NAME)
         self.node_config_param = self.node_name + "/configFile"
         self.original_node_config = rospy.get_param(self.node_config_param, None)
         self.node_config_file = os.path.abspath(rospy.get_param(
@@ -170,7 +154,8 @@ class Harness:
             raise HarnessError(str(error)) from None
         self.node_log_file = os.path.abspath(rospy.get_param("~nodeLogFile", rospy.get_param(
             self.node_name + "/logFile", default_log_path(self.package_dir, os.environ.get("ROS_HOME")))))
-        self.report_file = os.path.abspath(rospy.get_param("~reportFile", default_report_path(self.package_dir)))
+        self.report_file = os.path.abspath(rospy.get_param("~reportFile", default_log_path(
+            self.package_dir, os.environ.get("ROS_HOME"), file_name=REPORT_FILE_NAME)))
         try:
             topics = load_topic_map(topic_file_path(self.config.node, self.data_dir)).topics
         except TopicFileError as error:
@@ -213,14 +198,17 @@ class Harness:
 
     def write_node_configuration(self, test: str):
         config = checks.node_configuration(self.config, test)
-        folder = os.path.dirname(self.node_config_file)
-        os.makedirs(folder, exist_ok=True)
         temporary = self.node_config_file + ".tmp"
-        with open(temporary, "w", encoding="utf-8") as stream:
-            stream.write("# Written by animateBehaviourTest for the test '{}'; rewritten at every "
-                         "test.\n".format(test))
-            stream.write(format_configuration_file(config))
-        os.replace(temporary, self.node_config_file)  # the node never reads half a file
+        try:
+            os.makedirs(os.path.dirname(self.node_config_file), exist_ok=True)
+            with open(temporary, "w", encoding="utf-8") as stream:
+                stream.write("# Written by animateBehaviourTest for the test '{}'; rewritten at every "
+                             "test.\n".format(test))
+                stream.write(format_configuration_file(config))
+            os.replace(temporary, self.node_config_file)  # the node never reads half a file
+        except OSError as error:
+            raise HarnessError("cannot write the node's configuration {}: {}".format(
+                self.node_config_file, error)) from None
         rospy.set_param(self.node_config_param, self.node_config_file)
         return config
 
@@ -268,7 +256,7 @@ class Harness:
         config = self.write_node_configuration(test)
         rotates = checks.expected_motion(test, config.platform, config).base
         # As the seed's SetUp: start from a disabled node and a robot at rest.
-        self.request("disabled")
+        self.request(activation.DISABLED)
         rest_from = time.time()
         self.recorder.start()
         self.wait_for_rest(rest_from, checks.BASE_STOP_LIMIT + checks.QUIET_WINDOW + 2.0)
@@ -276,12 +264,12 @@ class Harness:
         self.recorder.start()
         self.sleep_until(time.time() + 0.2)  # a heading and joint sample from before the enable
         enable_sent = time.time()
-        enable_reply = self.request("enabled")
+        enable_reply = self.request(activation.ENABLED)
         rospy.loginfo("%s: %s: enabled (reply %r), running %g s", NODE_NAME, checks.TESTS[test].title,
                       enable_reply, self.config.test_duration)
         self.sleep_until(enable_sent + self.config.test_duration)
         disable_sent = time.time()
-        disable_reply = self.request("disabled")
+        disable_reply = self.request(activation.DISABLED)
         _, headings, _ = self.recorder.snapshot()
         reference = checks.heading_at(headings, enable_sent) if rotates and config.home_on_disable else None
         limit = checks.BASE_STOP_LIMIT if rotates else checks.JOINT_STOP_LIMIT
@@ -347,7 +335,7 @@ class Harness:
         if rospy.is_shutdown():
             return
         if self._call is not None:
-            self.request("disabled")
+            self.request(activation.DISABLED)
         try:
             if self.original_node_config is None:
                 rospy.delete_param(self.node_config_param)

@@ -33,13 +33,16 @@ from collections import OrderedDict
 from typing import Dict, Iterable, List, Mapping, NamedTuple, Optional, Sequence, Tuple
 
 from cssr_system import log_events
+from cssr_system.activation import REPLY_SUCCESS
+from cssr_system.base_rotation import RELATIVE, wheels_command_kind
 from cssr_system.configuration import (KEYS, Configuration, ConfigurationError, InvalidValue, KeySpec,
                                        check_value, integer_at_least, number_in, configuration_items,
-                                       parse_configuration)
+                                       override_text, parse_configuration)
 from cssr_system.event_log import LogEntry
-from cssr_system.joint_table import (BASE_MAX_ANGULAR_ACCELERATION, BASE_MAX_ANGULAR_VELOCITY, HEAD_PART, JOINTS,
-                                     PARTS)
-from cssr_system.topics import cannot_read, key_value_lines, read_text_file, unknown_key
+from cssr_system.joint_table import (BASE_MAX_ANGULAR_ACCELERATION, BASE_MAX_ANGULAR_VELOCITY,
+                                     BASE_VELOCITY_COMMAND_TIMEOUT, HEAD_PART, JOINTS, PARTS, centre_of, part_of,
+                                     short_name)
+from cssr_system.topics import key_value_lines, read_key_value_file, unknown_key
 
 # ---------------------------------------------------------------------------------------------------
 # The four tests of the seed.
@@ -61,7 +64,6 @@ TESTS: Dict[str, HarnessTest] = OrderedDict((spec.name, spec) for spec in (
 ))
 
 BASE = "base"  # the base, beside the joint parts, in the oracle and the report
-ENABLED_REPLY = "1"
 # The node's return to the centre after disabled lasts at most 2 s (SPEC section 5); the base may
 # first finish a turn under way (a moveTo cannot be interrupted), then turn back.
 JOINT_STOP_LIMIT = 2.5  # s from the disabled request until the joints are still
@@ -165,7 +167,13 @@ def parse_harness_configuration(text: str, source: str, overrides: Optional[Mapp
         if key in HARNESS_KEYS:
             harness_values.pop(key, None)  # the parameter replaces the file's value
             first_lines[key] = 0
-            checked = check_value(HARNESS_KEYS[key], _parameter_text(value), where, where, repr(value), problems)
+            try:
+                text = override_text(value)
+            except TypeError as error:
+                problems.append("{} = {!r}: expected {} (a parameter of type {} is not accepted)".format(
+                    where, value, HARNESS_KEYS[key].expected, error))
+                continue
+            checked = check_value(HARNESS_KEYS[key], text, where, where, repr(value), problems)
             if checked is not None:
                 harness_values[key] = checked.value
         elif key == BEHAVIOUR_KEY:
@@ -204,22 +212,11 @@ def parse_harness_configuration(text: str, source: str, overrides: Optional[Mapp
     return HarnessConfiguration(source=source, node=node, **values)  # type: ignore[arg-type]
 
 
-def _parameter_text(value: object) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, (list, tuple)):
-        return ",".join(str(item) for item in value)
-    return str(value).strip()
-
-
 def load_harness_configuration(path: str, overrides: Optional[Mapping[str, object]] = None,
                                data_dir: Optional[str] = None) -> HarnessConfiguration:
     """The harness configuration in the file at `path`; ConfigurationError also when it cannot be read."""
-    try:
-        text = read_text_file(path)
-    except (OSError, UnicodeError, ValueError, TypeError) as error:
-        raise ConfigurationError([cannot_read(path, error)]) from None
-    return parse_harness_configuration(text, path, overrides, data_dir)
+    return parse_harness_configuration(read_key_value_file(path, ConfigurationError), path, overrides,
+                                       data_dir)
 
 
 def node_configuration(harness: HarnessConfiguration, test: str) -> Configuration:
@@ -275,29 +272,11 @@ class ExpectedMotion(NamedTuple):
     base: bool  # the base turns
 
 
-def _short_name(joint_name: str) -> str:
-    return joint_name[1:] if joint_name[0] in "LR" and joint_name[1].isupper() else joint_name
-
-
-def part_of(joint_name: str) -> str:
-    for key, part in PARTS.items():
-        if joint_name in part.joints:
-            return key
-    if joint_name in HEAD_PART.joints:
-        return HEAD_PART.key
-    raise KeyError("unknown joint {!r}".format(joint_name))
-
-
-def centre_of(joint_name: str) -> float:
-    part = PARTS[part_of(joint_name)]
-    return part.centre[part.joints.index(joint_name)]
-
-
 def maximum_range_fraction(config: Configuration, joint_name: str) -> float:
     """The configuration's maximum-range fraction of a joint (SPEC section 2)."""
     key = part_of(joint_name)
     if key in ("RArm", "LArm"):
-        return float(config.arm_maximum_range[ARM_RANGE_ORDER.index(_short_name(joint_name))])
+        return float(config.arm_maximum_range[ARM_RANGE_ORDER.index(short_name(joint_name))])
     if key in ("RHand", "LHand"):
         return float(config.hand_maximum_range)
     return float(config.leg_maximum_range[LEG_RANGE_ORDER.index(joint_name)])
@@ -320,14 +299,14 @@ def expected_motion(test: str, platform: str, config: Configuration) -> Expected
     for behaviour in TESTS[test].behaviours:
         base = base or BASE_ROTATES[behaviour]
         for key, joints in EXPECTED_PARTS[behaviour][platform].items():
-            names = {_short_name(name) for name in PARTS[key].joints} if joints == ALL_JOINTS else set(joints)
+            names = {short_name(name) for name in PARTS[key].joints} if joints == ALL_JOINTS else set(joints)
             moving.setdefault(key, set()).update(names)  # type: ignore[arg-type]
     bounds: "OrderedDict[str, JointBound]" = OrderedDict()
     parts = tuple(key for key in PARTS if key in moving)
     for key in parts:
         for name in PARTS[key].joints:
             centre = centre_of(name)
-            if _short_name(name) in moving[key]:
+            if short_name(name) in moving[key]:
                 lower, upper = table1_bounds(config, name)
                 bounds[name] = JointBound(name, key, centre, lower, upper, True)
             else:
@@ -430,15 +409,10 @@ def _wrap(angle: float) -> float:
     return math.atan2(math.sin(angle), math.cos(angle))
 
 
-def _is_relative_topic(topic: str) -> bool:
-    """cmd_moveto carries relative angles (pepper-facts section 4); other Wheels topics velocities."""
-    return topic.rstrip("/").endswith("cmd_moveto")
-
-
 def check_reply(name: str, reply: str) -> Check:
-    if reply == ENABLED_REPLY:
-        return Check(name, True, 'reply "1"')
-    return Check(name, False, 'reply {!r}, expected "1"'.format(reply))
+    if reply == REPLY_SUCCESS:
+        return Check(name, True, 'reply "{}"'.format(REPLY_SUCCESS))
+    return Check(name, False, 'reply {!r}, expected "{}"'.format(reply, REPLY_SUCCESS))
 
 
 def check_started(spec: HarnessTest, config: Configuration, observation: Observation) -> Check:
@@ -503,7 +477,7 @@ def _goals(observation: Observation, purpose: Optional[str], after: float, befor
 
 
 def _animation_goals(observation: Observation) -> List[LogEntry]:
-    return _goals(observation, "animate", observation.enable_sent, _animation_end(observation))
+    return _goals(observation, log_events.PURPOSE_ANIMATE, observation.enable_sent, _animation_end(observation))
 
 
 def _animation_end(observation: Observation) -> float:
@@ -511,8 +485,12 @@ def _animation_end(observation: Observation) -> float:
     return entry_time(ended) if ended is not None else observation.disable_sent
 
 
+def _part_label(key: str) -> str:
+    return PARTS[key].label if key in PARTS else key
+
+
 def _labels(keys: Iterable[str]) -> str:
-    names = [PARTS[key].label if key in PARTS else key for key in keys]
+    names = [_part_label(key) for key in keys]
     return ", ".join(names) if names else "none"
 
 
@@ -808,7 +786,7 @@ def check_nothing_after_disabled(expected: ExpectedMotion, observation: Observat
     homes: Dict[str, int] = {}
     for goal in _goals(observation, None, observation.disable_sent, observation.ended):
         key = goal.fields.get("part")
-        if goal.fields.get("purpose") != "home":
+        if goal.fields.get("purpose") != log_events.PURPOSE_HOME:
             if entry_time(goal) > end + LOG_CLOCK_MARGIN:
                 problems.append("{} goal {} to {} at +{:.3f} s after disabled".format(
                     goal.fields.get("purpose"), goal.fields.get("goal"), key,
@@ -825,14 +803,15 @@ def check_nothing_after_disabled(expected: ExpectedMotion, observation: Observat
                 key, _fmt(times[-1]), HOME_MAX_DURATION))
     problems.extend("{} return goals to {}".format(count, key) for key, count in homes.items() if count > 1)
     turns = [entry for entry in observation.entries if entry.event == log_events.BASE_COMMAND
-             and entry_time(entry) > end + LOG_CLOCK_MARGIN and entry.fields.get("purpose") == "animate"]
+             and entry_time(entry) > end + LOG_CLOCK_MARGIN
+             and entry.fields.get("purpose") == log_events.PURPOSE_ANIMATE]
     if turns:
         problems.append("{} random base turn(s) after disabled".format(len(turns)))
     if problems:
         return Check(name, False, "; ".join(problems))
     returns = [entry for entry in observation.entries if entry.event == log_events.BASE_COMMAND
                and entry_time(entry) >= observation.disable_sent - LOG_CLOCK_MARGIN
-               and entry.fields.get("purpose") != "animate"]
+               and entry.fields.get("purpose") != log_events.PURPOSE_ANIMATE]
     return Check(name, True, "return-to-centre goals: {}{}".format(
         _labels(key for key in PARTS if key in homes), "; base return turn(s): {}".format(len(returns))
         if returns else ""))
@@ -866,7 +845,8 @@ def settled_since(joints: Sequence[JointSample], headings: Sequence[HeadingSampl
 def return_tolerance(harness: HarnessConfiguration, config: Configuration, base_topic: str) -> float:
     """How far from its heading at enable the base may come to rest after its return turn."""
     allowed = harness.heading_tolerance
-    if not _is_relative_topic(base_topic):
+    # A velocity base (or one on an unknown topic) may brake through a turn under way.
+    if not (base_topic and wheels_command_kind(base_topic) == RELATIVE):
         peak = config.rot_maximum_range * BASE_MAX_ANGULAR_VELOCITY
         allowed += peak ** 2 / (2 * BASE_MAX_ANGULAR_ACCELERATION)
     return allowed
@@ -974,7 +954,7 @@ def evaluate_test(test: str, iteration: int, harness: HarnessConfiguration,
     checks.append(check_observed_within_bounds(harness, config, expected, observation))
     if expected.base:
         checks.append(check_heading_bounded(harness, config, observation))
-        if observation.base_topic and not _is_relative_topic(observation.base_topic):
+        if observation.base_topic and wheels_command_kind(observation.base_topic) != RELATIVE:
             checks.append(check_base_speed(config, observation))
     checks.extend([check_ended(spec, observation),
                    check_reply("Animate behaviour disabled", observation.disable_reply),
@@ -1009,7 +989,8 @@ def failure_message(outcome: HarnessOutcome) -> str:
 # Headings from the Wheels commands, when the robot publishes no odometry.
 
 def headings_from_commands(commands: Sequence[BaseCommand], relative: bool, start: float, end: float,
-                           step: float = 0.02, velocity_timeout: float = 0.5) -> List[HeadingSample]:
+                           step: float = 0.02, velocity_timeout: float = BASE_VELOCITY_COMMAND_TIMEOUT
+                           ) -> List[HeadingSample]:
     """The heading the commands ask for, from 0 at `start`: a relative topic turns by each angle at
     once (an upper bound of what the robot does), a velocity topic is integrated (zero-order hold,
     stopped `velocity_timeout` after the last command)."""
@@ -1022,12 +1003,15 @@ def headings_from_commands(commands: Sequence[BaseCommand], relative: bool, star
                 samples.append(HeadingSample(command.time, heading))
         samples.append(HeadingSample(end, heading))
         return samples
-    ordered = [command for command in commands if command.time <= end]
+    ordered = sorted((command for command in commands if command.time <= end), key=lambda command: command.time)
+    following = 0  # index of the first command after `moment`: the one before it is in force
     moment = start
     while moment < end:
         nxt = min(end, moment + step)
-        latest = [command for command in ordered if command.time <= moment]
-        velocity = latest[-1].angular_z if latest and moment - latest[-1].time <= velocity_timeout else 0.0
+        while following < len(ordered) and ordered[following].time <= moment:
+            following += 1
+        latest = ordered[following - 1] if following else None
+        velocity = latest.angular_z if latest is not None and moment - latest.time <= velocity_timeout else 0.0
         heading += velocity * (nxt - moment)
         moment = nxt
         samples.append(HeadingSample(moment, heading))
@@ -1060,10 +1044,6 @@ def format_run_header(started: datetime.datetime, harness: HarnessConfiguration,
                  _fmt(harness.position_tolerance), _fmt(harness.heading_tolerance)),
              ""]
     return "\n".join(lines) + "\n"
-
-
-def _part_label(key: str) -> str:
-    return PARTS[key].label if key in PARTS else key
 
 
 def _bounds_text(expected: ExpectedMotion, key: str) -> str:
