@@ -7,6 +7,7 @@ its queue. Each controller has its own `PartStream` (IDLE, ANIMATING, HOMING, WA
 part can be paused or resumed on its own; the base has a `BaseStream`.
 """
 import enum
+import logging
 import os
 import queue
 import signal
@@ -189,12 +190,12 @@ class PartStream:
         now = time.monotonic()
         joints = PARTS[self.part].joints
         positions, velocities, accelerations = self.current_state(joint_states, now)
+        bands = self.motion.bounds if self.motion is not None else ()
+        lower, upper = [b.lower for b in bands], [b.upper for b in bands]
         # A return home from a moving joint brakes inside the band it was animated in.
-        bounds = None
-        if purpose == PURPOSE_HOME and self.motion is not None:
-            bounds = ([b.lower for b in self.motion.bounds], [b.upper for b in self.motion.bounds])
+        home_bounds = (lower, upper) if purpose == PURPOSE_HOME and bands else None
         timed = time_trajectory(waypoints, joints, positions, velocities, gesture_duration,
-                                start_accelerations=accelerations, position_bounds=bounds)
+                                start_accelerations=accelerations, position_bounds=home_bounds)
         points = to_points(timed)
         goal = FollowJointTrajectoryGoal()
         goal.trajectory.joint_names = list(joints)
@@ -222,13 +223,12 @@ class PartStream:
         self._unfinished[number] = self._sent
         while len(self._unfinished) > MAX_UNFINISHED_GOALS:  # a controller that never answers
             self._unfinished.popitem(last=False)
-        bounds = self.motion.bounds if self.motion is not None else ()
         rospy.logdebug("%s: %s goal %d (%s) sent to %s: %d points over %.1f s.", NODE_NAME,
                        self.part, number, purpose, self.action, len(points), timed.times[-1])
         log.write(log_events.GOAL_SENT, part=self.part, label=PARTS[self.part].label,
                   action=self.action, purpose=purpose, goal=number, joints=joints,
                   centre=PARTS[self.part].centre,
-                  lower=[b.lower for b in bounds], upper=[b.upper for b in bounds],
+                  lower=lower, upper=upper,
                   moving=self.motion.moving if self.motion is not None else (),
                   times=timed.times, positions=timed.positions)
         return timed
@@ -282,16 +282,16 @@ class BaseStream:
         self._next_sample = 0  # index of the next velocity sample to publish
 
     def start(self, config: Configuration, rng, now: float, log: EventLog) -> None:
-        heading = self.planner.heading if self.planner is not None and self.state != BaseState.IDLE else 0.0
-        if self.planner is not None and self._step is not None:
-            heading = self.planner.heading  # a return still under way: keep its frame
+        # Keep the frame of a rotation or return still under way; otherwise start from heading 0.
+        keep = self.planner is not None and (self.state != BaseState.IDLE or self._step is not None)
+        heading = self.planner.heading if keep else 0.0
         self.planner = BaseRotationPlanner(self.kind, config.rot_maximum_range, config.heading_bound, rng)
         self.planner.set_heading(heading)
         self.state = BaseState.ROTATING
         if self._step is None:
             self._begin(self.planner.next_step(), now, PURPOSE_ANIMATE, log)
         else:
-            self._step_ends_at = min(self._step_ends_at, self._step_started + self._step.busy_time)
+            self._drop_pause()
 
     def stop(self, return_home: bool, now: float, log: EventLog) -> None:
         """Stops at once (an explicit zero on a velocity topic); then, if asked, turns back to the
@@ -303,12 +303,16 @@ class BaseStream:
             self.planner.set_heading(heading_after_interruption(self._step, self._next_sample))
             self._step = None
         elif self._step is not None:
-            self._step_ends_at = min(self._step_ends_at, self._step_started + self._step.busy_time)
+            self._drop_pause()
         self.state = BaseState.IDLE
         if return_home and self.planner is not None:
             self.state = BaseState.RETURNING
             if self._step is None:
                 self._begin(self.planner.return_step(), now, PURPOSE_RETURN, log)
+
+    def _drop_pause(self) -> None:
+        """The step under way ends when the robot is done with it: our pause after it is dropped."""
+        self._step_ends_at = min(self._step_ends_at, self._step_started + self._step.busy_time)
 
     def next_deadline(self) -> Optional[float]:
         if self._step is None:
@@ -384,7 +388,6 @@ class AnimateBehaviour:
         self.active_parts: Dict[str, PartStream] = {}  # by part key, while enabled or homing
         self.bases: Dict[str, BaseStream] = {}
         self.active_base: Optional[BaseStream] = None
-        self._last_wait_report: Dict[str, float] = {}
         self._stopped = threading.Event()
         self._supervisor = threading.Thread(target=self._run, name="supervisor", daemon=True)
         self._watcher = threading.Thread(target=self._watch_controllers, name="watcher", daemon=True)
@@ -442,7 +445,6 @@ class AnimateBehaviour:
 
     @staticmethod
     def apply_verbosity(config: Configuration) -> None:
-        import logging
         logging.getLogger("rosout").setLevel(logging.DEBUG if config.verbose_mode else logging.INFO)
 
     def _heartbeat(self, _event) -> None:
@@ -663,7 +665,8 @@ class AnimateBehaviour:
 
     # -- watcher thread: finds controllers without blocking anyone -------------------------------
     def _watch_controllers(self) -> None:
-        started = {}
+        started: Dict[str, float] = {}  # when each missing controller was first looked for
+        last_report: Dict[str, float] = {}
         while not self._stopped.is_set() and not rospy.is_shutdown():
             with self._parts_lock:
                 streams = list(self.parts.items())
@@ -675,24 +678,23 @@ class AnimateBehaviour:
                     self.events.put(ControllerConnected(stream.part, action))
                     continue
                 waited = time.monotonic() - started[action]
-                last = self._last_wait_report.get(action, 0.0)
-                if waited >= WAIT_REPORT_PERIOD and time.monotonic() - last >= WAIT_REPORT_PERIOD:
-                    self._last_wait_report[action] = time.monotonic()
+                if (waited >= WAIT_REPORT_PERIOD
+                        and time.monotonic() - last_report.get(action, 0.0) >= WAIT_REPORT_PERIOD):
+                    last_report[action] = time.monotonic()
                     rospy.logwarn("%s: still waiting for controller %s (%.0f s); %s is skipped "
                                   "until it appears.", NODE_NAME, action, waited, stream.part)
                     self.log.write(log_events.CONTROLLER_WAITING, part=stream.part, action=action,
                                    seconds=round(waited, 1))
             self._stopped.wait(WATCH_PERIOD)
 
-    def wait_stopped(self, timeout: float) -> bool:
-        return self._stopped.wait(timeout)
+
+_GOAL_STATE_NAMES = {getattr(GoalStatus, name): name for name in (
+    "PENDING", "ACTIVE", "PREEMPTED", "SUCCEEDED", "ABORTED", "REJECTED", "PREEMPTING",
+    "RECALLING", "RECALLED", "LOST")}
 
 
 def _goal_state_name(state: int) -> str:
-    names = {getattr(GoalStatus, name): name for name in (
-        "PENDING", "ACTIVE", "PREEMPTED", "SUCCEEDED", "ABORTED", "REJECTED", "PREEMPTING",
-        "RECALLING", "RECALLED", "LOST")}
-    return names.get(state, str(state))
+    return _GOAL_STATE_NAMES.get(state, str(state))
 
 
 def print_banner(version: str) -> None:
