@@ -29,8 +29,9 @@ rostests=(test/*.test)
 if [ -e "${rostests[0]}" ]; then
   log_step "integration tests (rostest, two at a time)"
   printf '%s\n' "${rostests[@]}" | xargs -P 2 -I{} sh -c \
-    'rostest --results-base-dir "$1/rostest" cssr_system "$(basename "$2")" > "$1/rostest/$(basename "$2" .test).out" 2>&1 \
-       && echo "  $2: ok" || { echo "  $2: FAILED (output: $1/rostest/$(basename "$2" .test).out)"; tail -n 30 "$1/rostest/$(basename "$2" .test).out"; }' \
+    'out="$1/rostest/$(basename "$2" .test).out"
+     rostest --results-base-dir "$1/rostest" cssr_system "$(basename "$2")" > "$out" 2>&1 \
+       && echo "  $2: ok" || { echo "  $2: FAILED (output: $out)"; tail -n 30 "$out"; }' \
     _ "$RESULTS_DIR" {}
   for file in "${rostests[@]}"; do
     expected+=("rostest-test_$(basename "$file" .test).xml")
