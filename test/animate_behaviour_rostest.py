@@ -22,15 +22,15 @@ import rostest
 from control_msgs.msg import FollowJointTrajectoryAction, FollowJointTrajectoryGoal
 from sensor_msgs.msg import JointState
 from trajectory_msgs.msg import JointTrajectoryPoint
+from wire_recorder import WireRecorder, next_goal_gaps, wait_until
 
-from cssr_system import log_events
-from cssr_system.activation import REPLY_FAILURE, REPLY_SUCCESS, SERVICE_PATH
-from cssr_system.configuration import load_configuration, topic_file_path
-from cssr_system.event_log import read_log
-from cssr_system.joint_table import JOINTS, PARTS, speed_limit
+from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.configuration import load_configuration, topic_file_path
+from cssr_system.animate_behaviour.contract import REPLY_FAILURE, REPLY_SUCCESS, SERVICE_PATH
+from cssr_system.animate_behaviour.event_log import read_log
+from cssr_system.animate_behaviour.topics import WHEELS_KEY, load_topic_map
+from cssr_system.pepper.joint_table import JOINTS, PARTS, speed_limit
 from cssr_system.srv import setActivation
-from cssr_system.topics import WHEELS_KEY, load_topic_map
-from cssr_system.wire_recorder import WireRecorder, next_goal_gaps, wait_until
 
 SERVICE = SERVICE_PATH
 # Generous bounds for a loaded 2-core CI machine; the strict figures are in the benchmark.
@@ -45,7 +45,7 @@ SCRIPT = os.path.join(PACKAGE_DIR, "scripts", "animateBehaviour.py")
 
 
 def expected_bounds(config, joint_name):
-    """The seed's Table 1, computed here from the joint table and the configuration."""
+    """The band formula (README: "What moves, and how"), computed here from the joint table and the configuration."""
     joint = JOINTS[joint_name]
     part = next(p for p in PARTS.values() if joint_name in p.joints)
     index = part.joints.index(joint_name)
@@ -97,8 +97,8 @@ class AnimateBehaviourTest(unittest.TestCase):
         """Base commands of the random rotation (not the return to the start heading) in the
         node's log file since `since`."""
         entries = read_log(rospy.get_param("/animateBehaviour/logFile"), since=since)
-        return [e for e in entries if e.event == log_events.BASE_COMMAND
-                and e.fields["purpose"] == log_events.PURPOSE_ANIMATE]
+        return [e for e in entries if e.event == contract.BASE_COMMAND
+                and e.fields["purpose"] == contract.PURPOSE_ANIMATE]
 
     def run_behaviour(self, behaviour, seconds=1.5):
         rospy.set_param("/animateBehaviour/behaviour", behaviour)

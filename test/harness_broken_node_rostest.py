@@ -41,7 +41,7 @@ class HarnessCatchesBrokenNode(unittest.TestCase):
                    "_iterations:=1", "_reportFile:=" + cls.report_file,
                    "_nodeConfigFile:=" + os.path.join(folder, "animateBehaviourHarnessNode.ini")]
         cls.harness_run = subprocess.run(command, stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
-                                 stderr=subprocess.STDOUT, universal_newlines=True, timeout=90)
+                                         stderr=subprocess.STDOUT, universal_newlines=True, timeout=90)
         with open(cls.report_file, encoding="utf-8") as stream:
             cls.report = stream.read()
         print(cls.harness_run.stdout)

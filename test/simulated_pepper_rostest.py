@@ -13,21 +13,16 @@ import actionlib
 import rospy
 import rostest
 from actionlib_msgs.msg import GoalStatus
-from control_msgs.msg import FollowJointTrajectoryAction, FollowJointTrajectoryGoal, FollowJointTrajectoryResult
+from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryGoal,
+                              FollowJointTrajectoryResult)
 from geometry_msgs.msg import Twist, Vector3
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 from std_msgs.msg import UInt32
 from trajectory_msgs.msg import JointTrajectoryPoint
 
-from cssr_system.joint_table import (
-    BASE_MAX_ANGULAR_ACCELERATION,
-    BASE_MOVETO_ANGULAR_VELOCITY,
-    BASE_VELOCITY_COMMAND_TIMEOUT,
-    JOINTS,
-    PARTS,
-    WHEEL_JOINTS,
-)
+from cssr_system.pepper.joint_table import (BASE_MAX_ANGULAR_ACCELERATION, BASE_MOVETO_ANGULAR_VELOCITY,
+                                            BASE_VELOCITY_COMMAND_TIMEOUT, JOINTS, PARTS, WHEEL_JOINTS)
 
 PACKAGE = "cssr_system"
 SERVER_TIMEOUT = 10.0  # s; the node starts in well under 2 s, but the test machine may be busy
@@ -121,7 +116,8 @@ class SimulatedPepperTest(unittest.TestCase):
         for namespace in EXPECTED_SERVERS[self.platform]:
             self.client(namespace)
         topics = [name for name, _ in rospy.get_published_topics()]
-        served = sorted(set(name.rsplit("/", 1)[0] for name in topics if name.endswith("/follow_joint_trajectory/status")))
+        served = sorted(set(name.rsplit("/", 1)[0]
+                        for name in topics if name.endswith("/follow_joint_trajectory/status")))
         self.assertEqual(served, sorted(EXPECTED_SERVERS[self.platform]))
         if self.platform == "simulator":
             self.assertFalse([name for name in topics if "Hand_controller" in name])

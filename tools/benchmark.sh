@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# `make benchmark`: the node's latency figures (SPEC section 5) against the simulated Pepper, on both
+# `make benchmark`: the node's latency figures (README: "Tests") against the simulated Pepper, on both
 # platforms' interfaces. Prints a table per platform; not part of `make test`.
 set -euo pipefail
 source "$(dirname "$0")/common.sh"

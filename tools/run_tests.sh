@@ -16,6 +16,8 @@ python3 tools/check_to_junit.py "$RESULTS_DIR/check-python38.xml" python38_compa
   src scripts test tools
 python3 tools/check_to_junit.py "$RESULTS_DIR/check-catkin-lint.xml" catkin_lint_strict -- \
   catkin_lint --strict -W2 --pkg cssr_system
+python3 tools/check_to_junit.py "$RESULTS_DIR/check-flake8.xml" flake8 -- \
+  python3 -m flake8 src scripts test tools
 
 log_step "wire compatibility: control_msgs checksums (pytest)"
 checksums=test/unit/test_control_msgs_checksums.py
@@ -24,7 +26,10 @@ python3 -m pytest "$checksums" -v -p no:cacheprovider --junitxml="$RESULTS_DIR/c
 log_step "unit tests (pytest)"
 python3 -m pytest test/unit -q -p no:cacheprovider --ignore="$checksums" --junitxml="$RESULTS_DIR/unit.xml"
 
-expected=(checksums.xml unit.xml check-python38.xml check-catkin-lint.xml)
+log_step "system tests: the commands and the README (pytest)"
+python3 -m pytest test/system -q -p no:cacheprovider --junitxml="$RESULTS_DIR/system.xml"
+
+expected=(checksums.xml unit.xml system.xml check-python38.xml check-catkin-lint.xml check-flake8.xml)
 rostests=(test/*.test)
 if [ -e "${rostests[0]}" ]; then
   log_step "integration tests (rostest, two at a time)"

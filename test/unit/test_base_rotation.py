@@ -3,30 +3,17 @@ import math
 
 import numpy
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 
-from cssr_system.base_rotation import (
-    MAX_TURN_TIME,
-    MIN_SAMPLE_RATE,
-    MIN_TURN,
-    RELATIVE,
-    RELATIVE_COMMAND_MARGIN,
-    RETURN_TOLERANCE,
-    VELOCITY,
-    BaseRotationPlanner,
-    RotationStep,
-    heading_after_interruption,
-    raised_cosine_velocities,
-    wheels_command_kind,
-)
-from cssr_system.joint_table import (
-    BASE_MAX_ANGULAR_ACCELERATION,
-    BASE_MAX_ANGULAR_VELOCITY,
-    BASE_MOVETO_ANGULAR_VELOCITY,
-    BASE_MOVETO_SETTLE_TIME,
-    BASE_VELOCITY_COMMAND_TIMEOUT,
-)
+from cssr_system.animate_behaviour.motion.base_rotation import (MAX_TURN_TIME, MIN_SAMPLE_RATE, MIN_TURN,
+                                                                RELATIVE_COMMAND_MARGIN, RETURN_TOLERANCE,
+                                                                BaseRotationPlanner, RotationStep,
+                                                                heading_after_interruption,
+                                                                raised_cosine_velocities)
+from cssr_system.pepper.joint_table import (RELATIVE, VELOCITY, wheels_command_kind,
+                                            BASE_MAX_ANGULAR_ACCELERATION, BASE_MAX_ANGULAR_VELOCITY,
+                                            BASE_MOVETO_ANGULAR_VELOCITY, BASE_MOVETO_SETTLE_TIME,
+                                            BASE_VELOCITY_COMMAND_TIMEOUT)
 
 ROUNDING = 1e-12
 
@@ -80,7 +67,7 @@ def check_relative_step(step: RotationStep) -> None:
     ("/sim/pepper/cmd_vel", VELOCITY),
     ("/pepper_dcm/cmd_moveto_extra", VELOCITY),
     ("/cmd_moveto/cmd_vel", VELOCITY),
-    ("/pepper_dcm/cmd.moveto", VELOCITY),  # the seed's illegal dotted name is not special
+    ("/pepper_dcm/cmd.moveto", VELOCITY),  # a dotted name (illegal in ROS) is not special
 ])
 def test_wheels_command_kind(topic, kind):
     assert wheels_command_kind(topic) == kind

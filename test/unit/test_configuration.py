@@ -1,23 +1,24 @@
-"""Unit tests of cssr_system.configuration: the configuration file, its checks and its overrides."""
+"""Unit tests of cssr_system.animate_behaviour.configuration: the configuration file, its checks and its overrides."""
 import os
 import shutil
 from collections import OrderedDict
 
 import pytest
-from hypothesis import HealthCheck, given, settings
-from hypothesis import strategies as st
+from hypothesis import HealthCheck, given, settings, strategies as st
 
-from cssr_system.configuration import (BEHAVIOURS, KEYS, PLATFORMS, Configuration, ConfigurationError,
-                                       configuration_items, format_configuration_file, load_configuration,
-                                       package_data_dir, parse_configuration, topic_file_path)
+from cssr_system import package_files
+from cssr_system.animate_behaviour.configuration import (BEHAVIOURS, KEYS, PLATFORMS, Configuration,
+                                                         ConfigurationError, configuration_items,
+                                                         format_configuration_file, load_configuration,
+                                                         parse_configuration, topic_file_path)
 
 PACKAGE_ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 DATA_DIR = os.path.join(PACKAGE_ROOT, "data")
 SHIPPED_FILE = os.path.join(PACKAGE_ROOT, "config", "animateBehaviourConfiguration.ini")
 SOURCE = "animateBehaviourConfiguration.ini"
 
-# SPEC section 2, written out independently of the module's table.
-SPEC_VALUES = OrderedDict([
+# The README's configuration table, written out independently of the module's table.
+SHIPPED_VALUES = OrderedDict([
     ("platform", "robot"),
     ("behaviour", "all"),
     ("robotTopics", "pepperTopics.dat"),
@@ -33,8 +34,8 @@ SPEC_VALUES = OrderedDict([
     ("numPointsLeg", "2"),
     ("legRepeatFactor", "8"),
 ])
-LINE = {key: number for number, key in enumerate(SPEC_VALUES, start=1)}  # line of each key in config_text()
-SPEC_DEFAULTS = Configuration(
+LINE = {key: number for number, key in enumerate(SHIPPED_VALUES, start=1)}  # line of each key in config_text()
+SHIPPED_DEFAULTS = Configuration(
     platform="robot", behaviour=frozenset({"body", "hands", "rotation"}), robot_topics="pepperTopics.dat",
     simulator_topics="simulatorTopics.dat", verbose_mode=False, rot_maximum_range=0.3, selected_range=0.5,
     arm_maximum_range=(0.2, 0.2, 0.2, 0.35, 0.2), hand_maximum_range=0.7, leg_maximum_range=(0.1, 0.1, 0.08),
@@ -43,8 +44,8 @@ SPEC_DEFAULTS = Configuration(
 
 
 def config_text(changes=None, remove=(), extra=""):
-    """The 14 SPEC keys, one per line in SPEC order (see LINE), with values changed or keys removed."""
-    values = OrderedDict(SPEC_VALUES)
+    """The 14 required keys, one per line in the README's order (see LINE), with values changed or keys removed."""
+    values = OrderedDict(SHIPPED_VALUES)
     values.update(changes or {})
     lines = ["{} {}".format(key, value) for key, value in values.items() if key not in remove]
     return "\n".join(lines) + "\n" + extra
@@ -77,14 +78,14 @@ def at(key):
 
 def test_shipped_configuration_has_the_spec_defaults():
     config = load_configuration(SHIPPED_FILE)
-    assert config == SPEC_DEFAULTS
+    assert config == SHIPPED_DEFAULTS
     assert type(config.num_points) is int and type(config.rot_maximum_range) is float
     assert type(config.verbose_mode) is bool and isinstance(config.behaviour, frozenset)
 
 
 def test_shipped_configuration_is_written_from_the_table():
     with open(SHIPPED_FILE) as stream:
-        assert stream.read() == format_configuration_file(SPEC_DEFAULTS)
+        assert stream.read() == format_configuration_file(SHIPPED_DEFAULTS)
 
 
 def test_shipped_configuration_comments_every_key():
@@ -97,26 +98,26 @@ def test_shipped_configuration_comments_every_key():
 
 def test_table_matches_the_configuration_fields():
     assert [spec.attribute for spec in KEYS.values()] == list(Configuration._fields)
-    assert [name for name, spec in KEYS.items() if spec.required] == list(SPEC_VALUES)
+    assert [name for name, spec in KEYS.items() if spec.required] == list(SHIPPED_VALUES)
     for spec in KEYS.values():
         assert spec.name and spec.expected and spec.description
         if not spec.required:
             assert spec.default == Configuration._field_defaults[spec.attribute]
-        assert spec.shipped == configuration_items(SPEC_DEFAULTS)[spec.name]
+        assert spec.shipped == configuration_items(SHIPPED_DEFAULTS)[spec.name]
     assert BEHAVIOURS == ("body", "hands", "rotation") and PLATFORMS == ("robot", "simulator")
 
 
 def test_configuration_items_are_written_as_in_the_file():
-    items = configuration_items(SPEC_DEFAULTS)
-    expected = OrderedDict(SPEC_VALUES)
+    items = configuration_items(SHIPPED_DEFAULTS)
+    expected = OrderedDict(SHIPPED_VALUES)
     expected.update(randomSeed="none", homeOnDisable="true", headingBound="0.3")
     assert items == expected and list(items) == list(expected)
-    items = configuration_items(SPEC_DEFAULTS._replace(behaviour=frozenset({"rotation", "body"}), random_seed=7))
+    items = configuration_items(SHIPPED_DEFAULTS._replace(behaviour=frozenset({"rotation", "body"}), random_seed=7))
     assert items["behaviour"] == "body,rotation" and items["randomSeed"] == "7"
 
 
 def test_optional_keys_take_their_defaults():
-    assert parse(config_text()) == SPEC_DEFAULTS
+    assert parse(config_text()) == SHIPPED_DEFAULTS
 
 
 def test_optional_keys_can_be_set():
@@ -172,7 +173,7 @@ def test_format_configuration_file_round_trips(round_trip_data_dir, config):
 
 
 def test_round_trip_through_a_file(tmp_path):
-    config = SPEC_DEFAULTS._replace(platform="simulator", behaviour=frozenset({"hands"}), random_seed=3)
+    config = SHIPPED_DEFAULTS._replace(platform="simulator", behaviour=frozenset({"hands"}), random_seed=3)
     path = tmp_path / "node.ini"
     path.write_text(format_configuration_file(config))
     assert load_configuration(str(path), data_dir=DATA_DIR) == config
@@ -238,7 +239,7 @@ def test_missing_key():
 
 def test_all_missing_keys_of_an_empty_file():
     problems = problems_of("# nothing\n")
-    assert [problem.split(" ")[3] for problem in problems] == list(SPEC_VALUES)
+    assert [problem.split(" ")[3] for problem in problems] == list(SHIPPED_VALUES)
 
 
 def test_unknown_key():
@@ -414,11 +415,11 @@ def test_every_problem_is_reported_in_one_error():
 def test_overrides_of_every_type(key, value, attribute, expected):
     config = parse(config_text(), overrides={key: value})
     assert getattr(config, attribute) == expected
-    assert config._replace(**{attribute: getattr(SPEC_DEFAULTS, attribute)}) == SPEC_DEFAULTS
+    assert config._replace(**{attribute: getattr(SHIPPED_DEFAULTS, attribute)}) == SHIPPED_DEFAULTS
 
 
 def test_override_supplies_a_missing_key():
-    assert parse(config_text(remove=["numPoints"]), overrides={"numPoints": 100}) == SPEC_DEFAULTS
+    assert parse(config_text(remove=["numPoints"]), overrides={"numPoints": 100}) == SHIPPED_DEFAULTS
 
 
 @pytest.mark.parametrize("key, value, shown", [
@@ -469,19 +470,19 @@ def test_override_of_the_platform_checks_the_other_topic_file():
 # --- topic file paths --------------------------------------------------------------------------------
 
 def test_topic_file_path():
-    assert topic_file_path(SPEC_DEFAULTS, "/d") == os.path.join("/d", "pepperTopics.dat")
-    simulator = SPEC_DEFAULTS._replace(platform="simulator")
+    assert topic_file_path(SHIPPED_DEFAULTS, "/d") == os.path.join("/d", "pepperTopics.dat")
+    simulator = SHIPPED_DEFAULTS._replace(platform="simulator")
     assert topic_file_path(simulator, "/d") == os.path.join("/d", "simulatorTopics.dat")
     absolute = simulator._replace(simulator_topics="/elsewhere/sim.dat")
     assert topic_file_path(absolute, "/d") == "/elsewhere/sim.dat"
     # The package may be imported through a workspace link to this folder: compare real paths.
-    assert os.path.realpath(topic_file_path(SPEC_DEFAULTS, None)) == os.path.realpath(
+    assert os.path.realpath(topic_file_path(SHIPPED_DEFAULTS, None)) == os.path.realpath(
         os.path.join(DATA_DIR, "pepperTopics.dat"))
-    assert os.path.samefile(package_data_dir(), DATA_DIR)
+    assert os.path.samefile(package_files.data_dir(), DATA_DIR)
 
 
 def test_default_data_dir_is_the_package_data_folder():
-    assert parse_configuration(config_text(), SOURCE) == SPEC_DEFAULTS
+    assert parse_configuration(config_text(), SOURCE) == SHIPPED_DEFAULTS
 
 
 # --- robustness --------------------------------------------------------------------------------------

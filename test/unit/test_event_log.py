@@ -8,19 +8,11 @@ import time
 
 import numpy
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 
-from cssr_system import event_log
-from cssr_system.event_log import (
-    LOG_FILE_NAME,
-    EventLog,
-    LogEntry,
-    default_log_path,
-    format_log_line,
-    parse_log_line,
-    read_log,
-)
+from cssr_system.animate_behaviour import event_log
+from cssr_system.animate_behaviour.event_log import (LOG_FILE_NAME, EventLog, LogEntry, default_log_path,
+                                                     format_log_line, parse_log_line, read_log)
 
 LINE_PATTERN = re.compile(
     r"\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}\.\d{3}[+-]\d{2}:\d{2} [a-z_]+ \{.*\}\n\Z")

@@ -4,11 +4,11 @@ import os
 
 import pytest
 
-from cssr_system import harness_checks as checks
-from cssr_system import log_events
-from cssr_system.configuration import ConfigurationError, configuration_items
-from cssr_system.event_log import LogEntry
-from cssr_system.joint_table import JOINTS, PARTS
+from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.configuration import ConfigurationError, configuration_items
+from cssr_system.animate_behaviour.event_log import LogEntry
+from cssr_system.animate_behaviour.harness import settings, oracle, checks, report
+from cssr_system.pepper.joint_table import JOINTS, PARTS, centre_of
 
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 DATA_DIR = os.path.join(REPO, "data")
@@ -29,7 +29,7 @@ legRepeatFactor 3
 
 
 def harness(text=HARNESS_TEXT, overrides=None, source="harness.ini"):
-    return checks.parse_harness_configuration(text, source, overrides, DATA_DIR)
+    return settings.parse_harness_configuration(text, source, overrides, DATA_DIR)
 
 
 def problems_of(text, overrides=None):
@@ -43,20 +43,20 @@ def problems_of(text, overrides=None):
 
 
 def test_shipped_test_configuration_is_valid():
-    config = checks.load_harness_configuration(SHIPPED_TEST_CONFIGURATION, data_dir=DATA_DIR)
+    config = settings.load_harness_configuration(SHIPPED_TEST_CONFIGURATION, data_dir=DATA_DIR)
     assert config.tests == ("hands", "body", "rotation", "all")
     assert config.iterations == 1 and config.platform == "robot"
 
 
 def test_configuration_values_defaults_and_node_keys():
     config = harness()
-    assert config.tests == ("hands", "all")  # in the seed's order, whatever the order written
+    assert config.tests == ("hands", "all")  # in the README's order, whatever the order written
     assert config.test_duration == 3.0 and config.iterations == 2
     assert config.position_tolerance == 0.001 and config.report_samples == 10
     assert config.platform == "simulator" and config.node.num_points == 10
     assert config.node.arm_maximum_range == (0.2, 0.2, 0.2, 0.35, 0.2)  # shipped value, key left out
-    assert checks.node_configuration(config, "hands").behaviour == frozenset({"hands"})
-    assert checks.node_configuration(config, "all").behaviour == frozenset({"body", "hands", "rotation"})
+    assert settings.node_configuration(config, "hands").behaviour == frozenset({"hands"})
+    assert settings.node_configuration(config, "all").behaviour == frozenset({"body", "hands", "rotation"})
 
 
 def test_parameters_override_harness_and_node_keys():
@@ -95,9 +95,9 @@ def test_the_shipped_node_configuration_is_never_written(tmp_path):
     shipped = tmp_path / "animateBehaviourConfiguration.ini"
     shipped.write_text("")
     with pytest.raises(ValueError, match="shipped configuration"):
-        checks.check_node_configuration_path(str(tmp_path / "." / "animateBehaviourConfiguration.ini"),
-                                             str(shipped))
-    checks.check_node_configuration_path(str(tmp_path / "harnessNode.ini"), str(shipped))
+        settings.check_node_configuration_path(str(tmp_path / "." / "animateBehaviourConfiguration.ini"),
+                                               str(shipped))
+    settings.check_node_configuration_path(str(tmp_path / "harnessNode.ini"), str(shipped))
 
 
 # ---------------------------------------------------------------------------------------------------
@@ -107,18 +107,18 @@ def test_the_shipped_node_configuration_is_never_written(tmp_path):
 def test_table1_bounds_by_hand():
     config = harness().node
     # RShoulderPitch: FR = 4.17134, MRO = 0.2 FR, SRO = MRO * 0.5 / 2 = 0.208567
-    assert checks.table1_bounds(config, "RShoulderPitch") == pytest.approx((1.541 - 0.208567, 1.541 + 0.208567))
+    assert oracle.table1_bounds(config, "RShoulderPitch") == pytest.approx((1.541 - 0.208567, 1.541 + 0.208567))
     # HipPitch: FR = 2.07694, SRO = 0.1 FR * 0.5 / 2 = 0.0519235
-    assert checks.table1_bounds(config, "HipPitch") == pytest.approx((-0.1107 - 0.0519235, -0.1107 + 0.0519235))
+    assert oracle.table1_bounds(config, "HipPitch") == pytest.approx((-0.1107 - 0.0519235, -0.1107 + 0.0519235))
     # RHand: FR = 0.96, SRO = 0.7 * 0.96 / 4 = 0.168
-    assert checks.table1_bounds(config, "RHand") == pytest.approx((0.49808, 0.83408))
+    assert oracle.table1_bounds(config, "RHand") == pytest.approx((0.49808, 0.83408))
     # LElbowYaw is the 4th value of armMaximumRange (0.35), not the 3rd
-    assert checks.table1_bounds(config, "LElbowYaw") == pytest.approx((-1.715 - 0.364992, -1.715 + 0.364992))
+    assert oracle.table1_bounds(config, "LElbowYaw") == pytest.approx((-1.715 - 0.364992, -1.715 + 0.364992))
 
 
 def test_table1_bounds_are_clamped_to_the_joint_limits():
     config = harness(overrides={"selectedRange": 1.0, "armMaximumRange": "1,1,1,1,1"}).node
-    lower, upper = checks.table1_bounds(config, "RElbowYaw")  # centre 1.6981 + 2.08567 > the limit
+    lower, upper = oracle.table1_bounds(config, "RElbowYaw")  # centre 1.6981 + 2.08567 > the limit
     assert upper == JOINTS["RElbowYaw"].upper and lower == pytest.approx(1.6981 - 2.08567)
 
 
@@ -133,7 +133,7 @@ def test_table1_bounds_are_clamped_to_the_joint_limits():
     ("all", "simulator", ("RArm", "LArm", "Leg"), True),
 ])
 def test_expected_parts_per_test_and_platform(test, platform, parts, base):
-    expected = checks.expected_motion(test, platform, harness().node)
+    expected = oracle.expected_motion(test, platform, harness().node)
     assert expected.parts == parts and expected.base == base
     moving = {name for name, bound in expected.bounds.items() if bound.moving}
     if test == "hands":  # the other arm joints are held exactly at their centre
@@ -146,7 +146,7 @@ def test_expected_parts_per_test_and_platform(test, platform, parts, base):
 
 def test_leg_slots_follow_the_seed_chunks():
     # numPoints 10, legRepeatFactor 3, numPointsLeg 2: chunk 3 -> R R C | R R C | R R C | C
-    slots = [checks.leg_slot_is_random(index, 10, 3, 2) for index in range(10)]
+    slots = [oracle.leg_slot_is_random(index, 10, 3, 2) for index in range(10)]
     assert slots == [True, True, False] * 3 + [False]
 
 
@@ -163,7 +163,7 @@ def entry(moment, event, **fields):
 def goal_entry(moment, part, expected, rows, purpose="animate", number=1, times=None):
     joints = PARTS[part].joints
     bounds = [expected.bounds[joint] for joint in joints]
-    return entry(moment, log_events.GOAL_SENT, part=part, label=PARTS[part].label, action="/x", purpose=purpose,
+    return entry(moment, contract.GOAL_SENT, part=part, label=PARTS[part].label, action="/x", purpose=purpose,
                  goal=number, joints=list(joints), centre=list(PARTS[part].centre),
                  lower=[b.lower for b in bounds], upper=[b.upper for b in bounds],
                  moving=[b.moving for b in bounds],
@@ -181,23 +181,23 @@ def random_rows(expected, part, count, fraction=0.25):
 
 def synthetic(test="hands", platform="simulator", overrides=None):
     config = harness(overrides=dict({"platform": platform}, **(overrides or {})))
-    node = checks.node_configuration(config, test)
-    expected = checks.expected_motion(test, platform, node)
-    entries = [entry(ENABLE + 0.01, log_events.CONFIGURATION_LOADED, file="n.ini", items=configuration_items(node)),
-               entry(ENABLE + 0.02, log_events.BEHAVIOUR_STARTED, behaviour=sorted(node.behaviour),
+    node = settings.node_configuration(config, test)
+    expected = oracle.expected_motion(test, platform, node)
+    entries = [entry(ENABLE + 0.01, contract.CONFIGURATION_LOADED, file="n.ini", items=configuration_items(node)),
+               entry(ENABLE + 0.02, contract.BEHAVIOUR_STARTED, behaviour=sorted(node.behaviour),
                      platform=platform, parts=list(expected.parts), wheels=None)]
     for part in expected.parts:
         rows = random_rows(expected, part, node.num_points)
         if part == "Leg":
-            rows = [row if checks.leg_slot_is_random(index, node.num_points, node.leg_repeat_factor,
+            rows = [row if oracle.leg_slot_is_random(index, node.num_points, node.leg_repeat_factor,
                                                      node.num_points_leg) else list(PARTS[part].centre)
                     for index, row in enumerate(rows)]
         entries.append(goal_entry(ENABLE + 0.03, part, expected, rows))
     for part in expected.parts:
         entries.append(goal_entry(DISABLE + 0.005, part, expected, [list(PARTS[part].centre)], "home", 2, [1.0]))
-    entries.append(entry(DISABLE + 0.01, log_events.BEHAVIOUR_ENDED, reason="disabled", home=True))
+    entries.append(entry(DISABLE + 0.01, contract.BEHAVIOUR_ENDED, reason="disabled", home=True))
 
-    centres = {name: checks.centre_of(name) for part in PARTS for name in PARTS[part].joints}
+    centres = {name: centre_of(name) for part in PARTS for name in PARTS[part].joints}
     centres.update(HeadYaw=0.0, HeadPitch=0.0)
     samples = []
     for step in range(int((END - ENABLE + 0.5) * 50)):
@@ -267,9 +267,9 @@ def test_a_held_joint_that_moves_and_a_part_that_should_not_move_fail():
 
 def test_goals_from_a_node_that_ignores_selected_range_fail():
     config, expected, observation = synthetic()
-    wide = checks.expected_motion("hands", "simulator", config.node._replace(selected_range=1.0))
+    wide = oracle.expected_motion("hands", "simulator", config.node._replace(selected_range=1.0))
     entries = [goal_entry(ENABLE + 0.03, part, wide, random_rows(wide, part, 10, fraction=0.02))
-               if item.event == log_events.GOAL_SENT and item.fields["purpose"] == "animate" else item
+               if item.event == contract.GOAL_SENT and item.fields["purpose"] == "animate" else item
                for item in observation.entries for part in [item.fields.get("part")]]
     problems = failed(checks.evaluate_test("hands", 1, config, observation._replace(entries=entries)))
     assert problems["Goal bounds match Table 1"].startswith("RElbowRoll: logged [")
@@ -278,9 +278,9 @@ def test_goals_from_a_node_that_ignores_selected_range_fail():
 
 def test_leg_pattern_accepts_the_seed_pattern_and_rejects_others():
     config, expected, observation = synthetic("body")
-    node = checks.node_configuration(config, "body")
+    node = settings.node_configuration(config, "body")
     centre = list(PARTS["Leg"].centre)
-    good = [row if checks.leg_slot_is_random(i, 10, 3, 2) else centre
+    good = [row if oracle.leg_slot_is_random(i, 10, 3, 2) else centre
             for i, row in enumerate(random_rows(expected, "Leg", 10))]
 
     def verdict(rows):
@@ -302,9 +302,9 @@ def test_leg_pattern_accepts_the_seed_pattern_and_rejects_others():
 
 def test_heading_bound_and_base_stop():
     config, expected, observation = synthetic("rotation")
-    node = checks.node_configuration(config, "rotation")
+    node = settings.node_configuration(config, "rotation")
     headings = [checks.HeadingSample(ENABLE - 0.5 + k * 0.02, 0.25 * min(1.0, max(0.0, (ENABLE - 0.5 + k * 0.02
-                                                                                         - ENABLE) / 2)))
+                                                                                        - ENABLE) / 2)))
                 for k in range(int((END - ENABLE + 0.5) * 50))]
     observation = observation._replace(headings=headings)
     check = checks.check_heading_bounded(config, node, observation)
@@ -341,8 +341,8 @@ def test_report_reads_like_the_seed_appendix():
     config, expected, observation = synthetic("body")
     outcome = checks.evaluate_test("body", 1, config, observation)
     started = datetime.datetime(2026, 11, 21, 16, 52, 22)
-    text = (checks.format_run_header(started, config, 1, "/animateBehaviour", "/tmp/n.ini", "/tmp/n.log")
-            + checks.format_test(outcome) + checks.format_run_footer([outcome]))
+    text = (report.format_run_header(started, config, 1, "/animateBehaviour", "/tmp/n.ini", "/tmp/n.log")
+            + report.format_test(outcome) + report.format_run_footer([outcome]))
     for expected_text in ("=== New Test Run Started at 2026-11-21 16:52:22 ===",
                           "Test 2: Test Subtle Body Animate behaviour (behaviour body, iteration 1)",
                           "Configuration Settings:", "selectedRange     : 0.5", "Joint names:",
@@ -354,5 +354,5 @@ def test_report_reads_like_the_seed_appendix():
                           "Test Run Completed with Result: PASSED"):
         assert expected_text in text, expected_text
     broken = outcome._replace(checks=outcome.checks + (checks.Check("Something", False, "went wrong: 1 > 0"),))
-    footer = checks.format_run_footer([broken])
+    footer = report.format_run_footer([broken])
     assert "Test Run Completed with Result: FAILED" in footer and "FAILED: Something: went wrong: 1 > 0" in footer

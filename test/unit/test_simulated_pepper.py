@@ -4,33 +4,14 @@ import math
 import numpy
 import pytest
 
-from cssr_system.joint_table import (
-    BASE_MAX_ANGULAR_ACCELERATION,
-    BASE_MAX_ANGULAR_VELOCITY,
-    BASE_MOVETO_ANGULAR_VELOCITY,
-    BASE_MOVETO_SETTLE_TIME,
-    BASE_VELOCITY_COMMAND_TIMEOUT,
-    HEAD_PART,
-    JOINTS,
-    PARTS,
-    WHEEL_JOINTS,
-)
-from cssr_system.simulated_pepper import (
-    INVALID_GOAL,
-    INVALID_JOINTS,
-    PLATFORMS,
-    SUCCESSFUL,
-    GoalPoint,
-    MoveToBase,
-    SimulatedController,
-    SimulatedPepper,
-    VelocityBase,
-    action_namespace,
-    base_topic,
-    odometry_topic,
-    posture,
-    yaw_quaternion,
-)
+from cssr_system.pepper.joint_table import (BASE_MAX_ANGULAR_ACCELERATION, BASE_MAX_ANGULAR_VELOCITY,
+                                            BASE_MOVETO_ANGULAR_VELOCITY, BASE_MOVETO_SETTLE_TIME,
+                                            BASE_VELOCITY_COMMAND_TIMEOUT, HEAD_PART, JOINTS, PARTS,
+                                            WHEEL_JOINTS)
+from cssr_system.pepper.simulated_pepper import (INVALID_GOAL, INVALID_JOINTS, PLATFORMS, SUCCESSFUL,
+                                                 GoalPoint, MoveToBase, SimulatedController, SimulatedPepper,
+                                                 VelocityBase, action_namespace, base_topic, odometry_topic,
+                                                 posture, yaw_quaternion)
 
 LEG = PARTS["Leg"]  # HipPitch, HipRoll, KneePitch
 EPSILON = 1e-9

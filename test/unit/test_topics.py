@@ -1,13 +1,13 @@
-"""Unit tests of cssr_system.topics: the topic file format and the shipped topic files."""
+"""Unit tests of cssr_system.animate_behaviour.topics: the topic file format and the shipped topic files."""
 import os
 
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
 
-from cssr_system.joint_table import CONTROLLER_NAMES, PARTS
-from cssr_system.topics import (TOPIC_KEYS, TopicFileError, TopicMap, key_value_lines, load_topic_map,
-                                parse_topic_map)
+from cssr_system.animate_behaviour.key_value_file import key_value_lines
+from cssr_system.animate_behaviour.topics import (TOPIC_KEYS, TopicFileError, TopicMap, load_topic_map,
+                                                  parse_topic_map)
+from cssr_system.pepper.joint_table import CONTROLLER_NAMES, PARTS
 
 DATA_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "data")
 

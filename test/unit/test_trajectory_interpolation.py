@@ -2,19 +2,11 @@
 import numpy
 import pytest
 
-from cssr_system.trajectory_interpolation import (
-    CUBIC,
-    LINEAR,
-    QUINTIC,
-    JointTrajectorySpline,
-    TrajectoryError,
-    TrajectoryPoint,
-    cubic_coefficients,
-    evaluate_polynomial,
-    linear_coefficients,
-    quintic_coefficients,
-    sample_trajectory,
-)
+from cssr_system.pepper.trajectory_interpolation import (CUBIC, LINEAR, QUINTIC, JointTrajectorySpline,
+                                                         TrajectoryError, TrajectoryPoint,
+                                                         cubic_coefficients, evaluate_polynomial,
+                                                         linear_coefficients, quintic_coefficients,
+                                                         sample_trajectory)
 
 # Two joints following known polynomials p(t) = sum c_k t^k (absolute time from 0).
 QUINTIC_POLYNOMIALS = numpy.array([[0.3, -0.2, 0.15, 0.04, -0.02, 0.003],

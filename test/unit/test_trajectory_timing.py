@@ -7,19 +7,15 @@ import time
 
 import numpy
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
+from conftest import ROBOT_PARTS, default_configuration
 
-from cssr_system.joint_table import JOINTS, PARTS, SPEED_FRACTION
-from cssr_system.motion_plan import animated_parts, make_rng, random_waypoints
-from cssr_system.trajectory_interpolation import (
-    QUINTIC,
-    evaluate_polynomial,
-    quintic_coefficients,
-    sample_trajectory,
-)
-from cssr_system.trajectory_timing import TimedTrajectory, speed_caps, spline_of, time_trajectory, to_points
-from test_motion_plan import ROBOT_PARTS, default_configuration
+from cssr_system.animate_behaviour.motion.trajectory_timing import (TimedTrajectory, speed_caps, spline_of,
+                                                                    time_trajectory, to_points)
+from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng, random_waypoints
+from cssr_system.pepper.joint_table import JOINTS, PARTS, SPEED_FRACTION
+from cssr_system.pepper.trajectory_interpolation import (QUINTIC, evaluate_polynomial, quintic_coefficients,
+                                                         sample_trajectory)
 
 SAMPLES_PER_SEGMENT = 150
 ROUNDING = 1e-9
@@ -121,7 +117,8 @@ def assert_continuous_at_waypoints(plan):
         jerk = (numpy.abs(6 * c_left[:, 3] + 24 * c_left[:, 4] * duration + 60 * c_left[:, 5] * duration ** 2)
                 + numpy.abs(6 * c_right[:, 3]))
         acceleration = numpy.abs(right[2])
-        assert numpy.all(numpy.abs(before[1] - after[1]) <= 1.01 * (2 * epsilon * acceleration + epsilon ** 2 * jerk) + 1e-9)
+        assert numpy.all(numpy.abs(before[1] - after[1]) <= 1.01 *
+                         (2 * epsilon * acceleration + epsilon ** 2 * jerk) + 1e-9)
         assert numpy.all(numpy.abs(before[2] - after[2]) <= 1.01 * epsilon * jerk + 1e-9)
 
 

@@ -5,17 +5,17 @@ import re
 
 import pytest
 
-from cssr_system import log_events
-from cssr_system.configuration import KEYS, package_data_dir
-from cssr_system.topics import load_topic_map
+from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.configuration import KEYS
+from cssr_system.animate_behaviour.topics import load_topic_map
+from cssr_system.package_files import data_dir, package_dir
 
-PACKAGE_DIR = os.path.dirname(package_data_dir())
+PACKAGE_DIR = package_dir()
 README = open(os.path.join(PACKAGE_DIR, "README.md"), encoding="utf-8").read()
 
 
 def event_names():
-    return [value for name, value in vars(log_events).items()
-            if name.isupper() and not name.startswith("PURPOSE_") and isinstance(value, str)]
+    return list(contract.LOG_EVENTS)
 
 
 @pytest.mark.parametrize("key", list(KEYS))
@@ -36,7 +36,7 @@ def test_every_launch_file_and_script_is_documented(folder):
 
 @pytest.mark.parametrize("topic_file", ["pepperTopics.dat", "simulatorTopics.dat"])
 def test_every_topic_is_documented(topic_file):
-    for topic in load_topic_map(os.path.join(package_data_dir(), topic_file)).topics.values():
+    for topic in load_topic_map(os.path.join(data_dir(), topic_file)).topics.values():
         assert "`{}`".format(topic) in README
 
 

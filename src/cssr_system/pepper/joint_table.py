@@ -123,3 +123,24 @@ def short_name(joint_name: str) -> str:
 def speed_limit(name: str) -> float:
     """The highest speed this package commands for a joint (rad/s, or unit/s for a hand)."""
     return JOINTS[name].max_velocity * SPEED_FRACTION
+
+
+# What a Twist on the base's Wheels topic means (README: "Topics, actions and services").
+RELATIVE, VELOCITY = "relative", "velocity"
+KINDS: tuple = (RELATIVE, VELOCITY)
+
+# Last name segment of the one relative Wheels topic; every other topic carries velocities.
+RELATIVE_TOPIC_SEGMENT = "cmd_moveto"
+
+
+def wheels_command_kind(topic: str) -> str:
+    """RELATIVE when the last segment of the topic name is ``cmd_moveto``, otherwise VELOCITY.
+
+    Namespaces and a leading ``~`` do not matter: ``/pepper_dcm/cmd_moveto``, ``cmd_moveto``,
+    ``/robot1/pepper_dcm/cmd_moveto`` are relative; ``/pepper/cmd_vel`` is a velocity topic.
+    """
+    name = topic.strip().rstrip("/")
+    if not name:
+        raise ValueError("wheels topic name is empty")
+    last_segment = name.rsplit("/", 1)[-1].lstrip("~")
+    return RELATIVE if last_segment == RELATIVE_TOPIC_SEGMENT else VELOCITY

@@ -88,7 +88,7 @@ def test_demo_command_runs_plots_and_leaves_nothing_behind(tmp_path):
     assert content.startswith(PNG_SIGNATURE)
     assert len(content) > 30 * 1024
 
-    from cssr_system.animation_plot import read_recording  # after the skip: needs the workspace
+    from cssr_system.animate_behaviour.recording.recording import read_recording  # after the skip: needs the workspace
     recording = read_recording(os.path.join(str(tmp_path), "animation.json"))
     assert [state for _, state in recording.activations] == ["enabled", "disabled"]
     assert recording.bands, "no joint bands found in the node's log"

@@ -1,50 +1,18 @@
-"""Unit tests of motion_plan: bounds, animated parts, leg pattern, random positions (no ROS)."""
+"""Unit tests of motion.waypoints: bounds, animated parts, leg pattern, random positions (no ROS)."""
 import numpy
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
+from hypothesis import given, settings, strategies as st
+from conftest import ROBOT_PARTS, SIMULATOR_PARTS, default_configuration
 
-from cssr_system.configuration import BEHAVIOURS, Configuration
-from cssr_system.joint_table import JOINTS, PARTS
-from cssr_system.motion_plan import (
-    JointBounds,
-    PartMotion,
-    animated_parts,
-    joint_bounds,
-    leg_pattern,
-    make_rng,
-    maximum_range,
-    random_waypoints,
-)
-
-ROBOT_PARTS = tuple(PARTS)  # pepperTopics.dat names every part
-SIMULATOR_PARTS = ("RArm", "LArm", "Leg")  # simulatorTopics.dat: no hands
-
-
-def default_configuration(**overrides) -> Configuration:
-    """The configuration SPEC section 2 ships, with `overrides` applied."""
-    configuration = Configuration(
-        platform="robot",
-        behaviour=frozenset(BEHAVIOURS),
-        robot_topics="pepperTopics.dat",
-        simulator_topics="simulatorTopics.dat",
-        verbose_mode=False,
-        rot_maximum_range=0.3,
-        selected_range=0.5,
-        arm_maximum_range=(0.2, 0.2, 0.2, 0.35, 0.2),
-        hand_maximum_range=0.7,
-        leg_maximum_range=(0.1, 0.1, 0.08),
-        gesture_duration=1.0,
-        num_points=100,
-        num_points_leg=2,
-        leg_repeat_factor=8,
-        random_seed=None,
-    )
-    return configuration._replace(**overrides)
+from cssr_system.animate_behaviour.configuration import Configuration
+from cssr_system.animate_behaviour.motion.waypoints import (JointBounds, PartMotion, animated_parts,
+                                                            joint_bounds, leg_pattern, make_rng,
+                                                            maximum_range, random_waypoints)
+from cssr_system.pepper.joint_table import JOINTS, PARTS
 
 
 def expected_bounds(joint_name, max_range, selected_range):
-    """Table 1 of the design document, computed from the joint table."""
+    """The band formula (README: "What moves, and how"), computed from the joint table."""
     part = next(part for part in PARTS.values() if joint_name in part.joints)
     centre = part.centre[part.joints.index(joint_name)]
     limits = JOINTS[joint_name]

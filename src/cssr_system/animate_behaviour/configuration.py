@@ -20,7 +20,7 @@ and what is expected. The 14 keys of the seed are required; ``randomSeed``, ``ho
 Cross-key rules: ``legRepeatFactor <= numPoints``; ``numPointsLeg <= floor(numPoints /
 legRepeatFactor)`` (the leg chunk size); the topic file of the selected platform (``robotTopics`` for
 ``robot``, ``simulatorTopics`` for ``simulator``; relative names are relative to the package's
-``data`` folder) must exist and be valid (see `cssr_system.topics`). The other platform's file is not
+``data`` folder) must exist and be valid (see `topics`). The other platform's file is not
 read. Cross-key rules are checked only when the keys involved are valid on their own.
 
 Overrides (private ROS parameters ``~<key>``) replace or supply the value of a key. They may be
@@ -47,9 +47,11 @@ import textwrap
 from collections import OrderedDict
 from typing import Callable, Dict, FrozenSet, List, Mapping, NamedTuple, Optional, Sequence, Tuple
 
-from cssr_system.joint_table import BASE_MAX_ANGULAR_VELOCITY, PARTS, short_name
-from cssr_system.topics import (TopicFileError, distinct_known_lines, join_problems, load_topic_map,
-                                one_line, read_key_value_file, unknown_key)
+from cssr_system.animate_behaviour.key_value_file import (distinct_known_lines, join_problems, one_line,
+                                                          read_key_value_file, unknown_key)
+from cssr_system.animate_behaviour.topics import TopicFileError, load_topic_map
+from cssr_system.package_files import data_dir as data_dir_of_package, package_path
+from cssr_system.pepper.joint_table import BASE_MAX_ANGULAR_VELOCITY, PARTS, short_name
 
 CONFIGURATION_FILE_NAME = "animateBehaviourConfiguration.ini"  # the shipped file, in config/
 BEHAVIOURS: Tuple[str, ...] = ("body", "hands", "rotation")
@@ -337,24 +339,15 @@ class _Value(NamedTuple):
     value: object
 
 
-def shipped_configuration_path(package_dir: Optional[str] = None) -> str:
-    """The package's own configuration file (``config/animateBehaviourConfiguration.ini``) in
-    `package_dir`, by default the package this module belongs to."""
-    if package_dir is None:
-        package_dir = os.path.dirname(package_data_dir())
-    return os.path.join(package_dir, "config", CONFIGURATION_FILE_NAME)
-
-
-def package_data_dir() -> str:
-    """The package's ``data`` folder: ``data`` beside ``src`` (this module is in src/cssr_system)."""
-    module_folder = os.path.dirname(os.path.abspath(__file__))
-    return os.path.join(os.path.dirname(os.path.dirname(module_folder)), "data")
+def shipped_configuration_path() -> str:
+    """The package's own configuration file, ``config/animateBehaviourConfiguration.ini``."""
+    return package_path("config", CONFIGURATION_FILE_NAME)
 
 
 def _resolve_data_file(name: str, data_dir: Optional[str]) -> str:
     if os.path.isabs(name):
         return name
-    return os.path.join(data_dir if data_dir is not None else package_data_dir(), name)
+    return os.path.join(data_dir if data_dir is not None else data_dir_of_package(), name)
 
 
 def topic_file_path(config: Configuration, data_dir: Optional[str] = None) -> str:
@@ -386,7 +379,7 @@ def override_text(value: object) -> str:
 
 
 def check_value(spec: KeySpec, text: str, where: str, subject: str, shown: str,
-           problems: List[str]) -> Optional[_Value]:
+                problems: List[str]) -> Optional[_Value]:
     """The parsed value, or None after adding the problem to `problems`."""
     if not text:
         problems.append("{} has no value (expected {})".format(subject, spec.expected))
@@ -513,7 +506,7 @@ def format_configuration_file(config: Configuration) -> str:
         spec = KEYS[name]
         at_default = not spec.required and getattr(config, spec.attribute) == spec.default
         comment = "{}{}. Value: {}.".format("Optional, default {}. ".format(text) if at_default else "",
-                                             spec.description[0].upper() + spec.description[1:], spec.expected)
+                                            spec.description[0].upper() + spec.description[1:], spec.expected)
         # Keep "[0, 1]" and ">= 1" whole: wrap at the other blanks only.
         kept_together = re.sub(r"\[[^]]*\]|[<>]=? \S", lambda match: match.group().replace(" ", "\0"), comment)
         lines.extend("# " + part.replace("\0", " ") for part in textwrap.wrap(kept_together, width=98))

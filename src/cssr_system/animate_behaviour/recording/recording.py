@@ -1,4 +1,4 @@
-"""Recorded runs of animateBehaviour: the recording file, the allowed bands, and the plot.
+"""Recorded runs of animateBehaviour: the recording file, the allowed bands, motion summaries.
 
 A recording is what the robot (simulated or real) actually did during a run: every joint over time
 from ``/joint_states``, the base heading from odometry, and when the node was enabled and disabled.
@@ -30,12 +30,7 @@ Bands of a run come from the node's log file (``goal_sent`` entries: ``lower``/`
 see `bands_from_log`) when it is available, else from the configuration with
 ``motion_plan.joint_bounds`` (`bands_from_configuration`).
 
-The plot (`plot_recording`, matplotlib's Agg backend, a PNG): one panel per animated part (each
-joint a line, its allowed band [lower, upper] shaded in the line's colour), one panel of the base
-heading with its bound around the heading at enable, and the enable/disable instants as vertical
-lines in every panel. Each panel's title says whether every sample stayed in its band.
-
-Pure Python, numpy and matplotlib: no ROS import.
+Pure Python and numpy: no ROS import.
 """
 import datetime
 import json
@@ -46,16 +41,25 @@ from typing import Any, Dict, Iterable, List, Mapping, NamedTuple, Optional, Seq
 
 import numpy
 
-from cssr_system import log_events
-from cssr_system.activation import DISABLED, ENABLED
-from cssr_system.joint_table import PARTS
+from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.contract import DISABLED, ENABLED
+from cssr_system.pepper.joint_table import PARTS
+
 
 RECORDING_FORMAT = "cssr_system/animation-recording"
+
+
 RECORDING_VERSION = 1
+
+
 BASE_LABEL = "base"
+
+
 # A joint (rad, or hand opening 0..1) or the heading (rad) "moves" when it spans more than this in
 # a window: well above the simulator's numerical noise, well below the smallest gesture.
 MOTION_THRESHOLD = 0.01
+
+
 # Samples further than this outside their band are reported in the plot (rad; absorbs float noise).
 BAND_TOLERANCE = 1e-3
 
@@ -84,9 +88,6 @@ class Recording(NamedTuple):
     info: Mapping[str, str] = {}
     heading_topic: str = ""
 
-
-# ---------------------------------------------------------------------------------------------------
-# Reading and writing.
 
 def _number_or_none(value: float) -> Optional[float]:
     return None if value is None or not math.isfinite(value) else float(value)
@@ -206,9 +207,6 @@ def read_recording(path: str) -> Recording:
     return recording_from_json(data, path)
 
 
-# ---------------------------------------------------------------------------------------------------
-# Bands.
-
 def _in_window(entry_time: datetime.datetime, since: Optional[float], until: Optional[float]) -> bool:
     moment = entry_time.timestamp()
     return (since is None or moment >= since) and (until is None or moment <= until)
@@ -229,7 +227,7 @@ def bands_from_log(entries: Iterable[Any], since: Optional[float] = None,
     configured_bound = None  # type: Optional[float]
     for entry in entries:
         fields = entry.fields
-        if entry.event == log_events.CONFIGURATION_LOADED:
+        if entry.event == contract.CONFIGURATION_LOADED:
             # Read before the window too: the configuration is loaded before the run starts.
             try:
                 configured_bound = float(fields.get("items", {}).get("headingBound"))
@@ -238,10 +236,10 @@ def bands_from_log(entries: Iterable[Any], since: Optional[float] = None,
             continue
         if not _in_window(entry.timestamp, since, until):
             continue
-        if entry.event == log_events.BEHAVIOUR_STARTED and fields.get("wheels"):
+        if entry.event == contract.BEHAVIOUR_STARTED and fields.get("wheels"):
             heading_bound = configured_bound
-        purpose = fields.get("purpose", log_events.PURPOSE_ANIMATE)
-        if entry.event != log_events.GOAL_SENT or purpose != log_events.PURPOSE_ANIMATE:
+        purpose = fields.get("purpose", contract.PURPOSE_ANIMATE)
+        if entry.event != contract.GOAL_SENT or purpose != contract.PURPOSE_ANIMATE:
             continue
         joints = fields.get("joints") or []
         lower = fields.get("lower") or []
@@ -265,8 +263,8 @@ def bands_from_configuration_file(config_file: str, overrides: Optional[Dict[str
                                   ) -> Tuple["OrderedDict[str, JointBand]", Optional[float]]:
     """The joint bands and the heading bound (None without rotation) of a configuration file, with
     `overrides` of its keys (e.g. platform, behaviour); ValueError with one line when it is invalid."""
-    from cssr_system.configuration import ConfigurationError, load_configuration, topic_file_path
-    from cssr_system.topics import TopicFileError, load_topic_map
+    from cssr_system.animate_behaviour.configuration import ConfigurationError, load_configuration, topic_file_path
+    from cssr_system.animate_behaviour.topics import TopicFileError, load_topic_map
     try:
         config = load_configuration(config_file, overrides)
         parts = load_topic_map(topic_file_path(config)).topics
@@ -278,17 +276,14 @@ def bands_from_configuration_file(config_file: str, overrides: Optional[Dict[str
 
 def bands_from_configuration(config: Any, available_parts: Iterable[str]) -> "OrderedDict[str, JointBand]":
     """The joint bands a configuration (``configuration.Configuration``) gives the parts of a
-    platform (``available_parts``: keys of its topic file), with ``motion_plan``."""
-    from cssr_system.motion_plan import animated_parts  # numpy only, but keeps imports light
+    platform (``available_parts``: keys of its topic file), with ``motion.waypoints``."""
+    from cssr_system.animate_behaviour.motion.waypoints import animated_parts  # numpy only, but keeps imports light
     bands = OrderedDict()  # type: OrderedDict[str, JointBand]
     for motion in animated_parts(config, available_parts):
         for bound, moves in zip(motion.bounds, motion.moving):
             bands[bound.name] = JointBand(bound.lower, bound.upper, bound.centre, bool(moves))
     return bands
 
-
-# ---------------------------------------------------------------------------------------------------
-# Motion summaries (used by the live demo output and by the plot).
 
 def yaw_from_quaternion(x: float, y: float, z: float, w: float) -> float:
     """Rotation about the vertical axis (rad, in (-pi, pi]) of an orientation quaternion."""
@@ -356,7 +351,7 @@ def heading_excess(recording: Recording) -> float:
         return 0.0
     worst = 0.0
     for start, end in enabled_intervals(recording):
-        reference = _heading_at(recording, start)
+        reference = heading_at_time(recording, start)
         inside = (recording.heading_times >= start) & (recording.heading_times <= end)
         if reference is None or not numpy.any(inside):
             continue
@@ -365,7 +360,7 @@ def heading_excess(recording: Recording) -> float:
     return worst
 
 
-def _heading_at(recording: Recording, time: float) -> Optional[float]:
+def heading_at_time(recording: Recording, time: float) -> Optional[float]:
     if len(recording.headings) == 0:
         return None
     return float(numpy.interp(time, recording.heading_times, recording.headings))
@@ -379,146 +374,3 @@ def plotted_parts(recording: Recording) -> List[Tuple[str, Tuple[str, ...]]]:
                 if any(name in recording.bands for name in part.joints)]
     moved = set(moving_parts(recording.joint_names, recording.positions))
     return [(part.label, part.joints) for part in PARTS.values() if part.label in moved]
-
-
-# ---------------------------------------------------------------------------------------------------
-# The plot.
-
-def _title_of(recording: Recording) -> str:
-    moment = datetime.datetime.fromtimestamp(recording.start_epoch).strftime("%Y-%m-%d %H:%M:%S")
-    details = ", ".join("%s %s" % (key, value) for key, value in recording.info.items()
-                        if key in ("behaviour", "platform"))
-    return "animateBehaviour: joints and base heading over time" + \
-        ("  (%s; %s)" % (details, moment) if details else "  (%s)" % moment)
-
-
-def _draw_activations(axis: Any, recording: Recording) -> None:
-    for time, state in recording.activations:
-        if state == ENABLED:
-            axis.axvline(time, color="tab:green", linewidth=1.6)
-        else:
-            axis.axvline(time, color="tab:red", linewidth=1.6, linestyle="--")
-
-
-def time_origin(recording: Recording) -> float:
-    """Time shown as 0 in the plot: the first enable, else the start of the recording."""
-    enables = [time for time, state in recording.activations if state == ENABLED]
-    return enables[0] if enables else 0.0
-
-
-def plot_recording(recording: Recording, output_path: str, title: Optional[str] = None) -> str:
-    """Plot `recording` into the PNG `output_path` (module docstring); returns its absolute path."""
-    import matplotlib
-    matplotlib.use("Agg")  # no display needed; safe when pyplot was not imported before
-    import matplotlib.pyplot as pyplot
-    from matplotlib.lines import Line2D
-    from matplotlib.patches import Patch
-
-    origin = time_origin(recording)
-    shifted = recording._replace(times=recording.times - origin,
-                                 heading_times=recording.heading_times - origin,
-                                 activations=tuple((time - origin, state) for time, state in recording.activations))
-    parts = plotted_parts(shifted)
-    panels = len(parts) + 1  # the base heading last
-    columns = 2 if panels > 3 else 1
-    rows = int(math.ceil(panels / float(columns)))
-    figure, axes = pyplot.subplots(rows, columns, figsize=(8.0 * columns, 3.4 * rows + 1.0),
-                                   sharex=True, squeeze=False)
-    flat_axes = [axis for row in axes for axis in row]
-    colours = pyplot.rcParams["axes.prop_cycle"].by_key()["color"]
-    for index, (label, joints) in enumerate(parts):
-        _plot_part(flat_axes[index], shifted, label, joints, colours)
-    _plot_heading(flat_axes[len(parts)], shifted)
-    for axis in flat_axes[panels:]:
-        axis.set_visible(False)
-    enabled = any(state == ENABLED for _, state in recording.activations)
-    x_label = "time since enabled (s)" if enabled else "time since the recording started (s)"
-    for column in range(columns):  # x labels under the lowest visible panel of each column
-        for row in reversed(range(rows)):
-            if row * columns + column < panels:
-                axes[row][column].set_xlabel(x_label)
-                axes[row][column].tick_params(labelbottom=True)
-                break
-    figure.suptitle(title or _title_of(recording), fontsize=13)
-    key = [Line2D([], [], color="tab:green", linewidth=1.6, label="enabled"),
-           Line2D([], [], color="tab:red", linewidth=1.6, linestyle="--", label="disabled"),
-           Patch(facecolor="grey", alpha=0.25, label="allowed band of the joint of the same colour"),
-           Line2D([], [], color="grey", linewidth=0.8, linestyle=":", label="band edges; alone: joint held")]
-    figure.legend(handles=key, loc="upper center", ncol=4, fontsize=9, frameon=False,
-                  bbox_to_anchor=(0.5, 0.965))
-    figure.tight_layout(rect=(0, 0, 1, 0.94))
-    output_path = os.path.abspath(output_path)
-    os.makedirs(os.path.dirname(output_path), exist_ok=True)
-    figure.savefig(output_path, dpi=100)
-    pyplot.close(figure)
-    return output_path
-
-
-def _plot_part(axis: Any, recording: Recording, label: str, joints: Sequence[str],
-               colours: Sequence[str]) -> None:
-    worst_joint, worst = "", 0.0
-    for index, name in enumerate(joints):
-        colour = colours[index % len(colours)]
-        band = recording.bands.get(name)
-        if band is not None and band.moving:
-            axis.axhspan(band.lower, band.upper, color=colour, alpha=0.13, linewidth=0)
-            axis.axhline(band.lower, color=colour, alpha=0.6, linewidth=0.8, linestyle=":")
-            axis.axhline(band.upper, color=colour, alpha=0.6, linewidth=0.8, linestyle=":")
-        elif band is not None:
-            axis.axhline(band.centre, color=colour, alpha=0.6, linewidth=0.8, linestyle=":")
-        if name in recording.joint_names:
-            values = recording.positions[:, recording.joint_names.index(name)]
-            shown = name + ("" if band is None or band.moving else " (held)")
-            axis.plot(recording.times, values, color=colour, linewidth=1.3, label=shown)
-        excess = band_excess(recording, name)
-        if excess > worst:
-            worst_joint, worst = name, excess
-    _draw_activations(axis, recording)
-    verdict = "every joint within its band" if worst <= BAND_TOLERANCE else \
-        "%s %.3f beyond its band" % (worst_joint, worst)
-    axis.set_title("%s: %s" % (label, verdict), fontsize=11,
-                   color="black" if worst <= BAND_TOLERANCE else "tab:red")
-    hand = all(name.endswith("Hand") for name in joints)
-    axis.set_ylabel("opening (0 closed, 1 open)" if hand else "angle (rad)")
-    axis.grid(True, alpha=0.3)
-    _leave_room_for_legend(axis)
-    axis.legend(loc="upper left", fontsize=8, ncol=min(len(joints), 5), framealpha=0.85,
-                handlelength=1.5, columnspacing=1.0)
-
-
-def _leave_room_for_legend(axis: Any) -> None:
-    bottom, top = axis.get_ylim()
-    axis.set_ylim(bottom, top + 0.22 * (top - bottom))
-
-
-def _plot_heading(axis: Any, recording: Recording) -> None:
-    if len(recording.headings):
-        axis.plot(recording.heading_times, recording.headings, color="tab:blue", linewidth=1.4,
-                  label="heading")
-    if recording.heading_bound is not None:
-        labelled = False
-        for start, end in enabled_intervals(recording):
-            reference = _heading_at(recording, start)
-            if reference is None:
-                continue
-            axis.fill_between([start, end], reference - recording.heading_bound,
-                              reference + recording.heading_bound, color="tab:blue", alpha=0.12,
-                              linewidth=0,
-                              label=None if labelled else "bound: heading at enable \u00b1 %.2f rad"
-                              % recording.heading_bound)
-            labelled = True
-        excess = heading_excess(recording)
-        verdict = "within its bound" if excess <= BAND_TOLERANCE else "%.3f rad beyond its bound" % excess
-    else:
-        verdict = "base not animated (no bound)"
-    _draw_activations(axis, recording)
-    topic = " (%s)" % recording.heading_topic if recording.heading_topic else ""
-    axis.set_title("base heading%s: %s" % (topic, verdict), fontsize=11)
-    axis.set_ylabel("heading (rad)")
-    axis.grid(True, alpha=0.3)
-    bottom, top = axis.get_ylim()
-    if top - bottom < 0.2:  # a still base: show a readable scale, not float noise
-        middle = (top + bottom) / 2.0
-        axis.set_ylim(middle - 0.1, middle + 0.1)
-    _leave_room_for_legend(axis)
-    axis.legend(loc="upper left", fontsize=8, ncol=2, framealpha=0.85)

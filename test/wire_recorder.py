@@ -10,7 +10,7 @@ from actionlib_msgs.msg import GoalID, GoalStatus
 from control_msgs.msg import FollowJointTrajectoryActionGoal, FollowJointTrajectoryActionResult
 from geometry_msgs.msg import Twist
 
-from cssr_system.topics import WHEELS_KEY
+from cssr_system.animate_behaviour.topics import WHEELS_KEY
 
 
 class WireRecorder:

@@ -223,7 +223,7 @@ def _level(state) -> int:
 
 
 def sample_trajectory(spline: JointTrajectorySpline, times) -> Tuple[numpy.ndarray, numpy.ndarray,
-                                                                      numpy.ndarray]:
+                                                                     numpy.ndarray]:
     """Vectorised JointTrajectorySpline.sample: arrays of shape (len(times), joints)."""
     times = numpy.asarray(times, dtype=float).reshape(-1)
     count, joints = times.size, spline.joint_count

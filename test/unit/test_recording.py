@@ -1,4 +1,4 @@
-"""Unit tests of cssr_system.animation_plot: recording file round trip, bands, motion summary, plot."""
+"""Unit tests of the recording format and its plot: recording file round trip, bands, motion summary, plot."""
 import json
 import math
 import os
@@ -6,28 +6,20 @@ import os
 import numpy
 import pytest
 
-from cssr_system import animation_plot, log_events
-from cssr_system.animation_plot import (
-    DISABLED,
-    ENABLED,
-    JointBand,
-    Recording,
-    band_excess,
-    bands_from_configuration,
-    bands_from_log,
-    heading_excess,
-    moving_parts,
-    plot_recording,
-    read_recording,
-    unwrap_heading,
-    write_recording,
-    yaw_from_quaternion,
-)
-from cssr_system.configuration import load_configuration, topic_file_path
-from cssr_system.event_log import EventLog, read_log
-from cssr_system.joint_table import JOINTS, PARTS
-from cssr_system.motion_plan import joint_bounds
-from cssr_system.topics import load_topic_map
+from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.configuration import load_configuration, topic_file_path
+from cssr_system.animate_behaviour.contract import DISABLED, ENABLED
+from cssr_system.animate_behaviour.event_log import EventLog, read_log
+from cssr_system.animate_behaviour.motion.waypoints import joint_bounds
+from cssr_system.animate_behaviour.recording.plot import plot_recording
+from cssr_system.animate_behaviour.recording.recording import (RECORDING_FORMAT, plotted_parts, JointBand,
+                                                               Recording, band_excess,
+                                                               bands_from_configuration, bands_from_log,
+                                                               heading_excess, moving_parts, read_recording,
+                                                               unwrap_heading, write_recording,
+                                                               yaw_from_quaternion)
+from cssr_system.animate_behaviour.topics import load_topic_map
+from cssr_system.pepper.joint_table import JOINTS, PARTS
 
 PACKAGE_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 CONFIG_FILE = os.path.join(PACKAGE_DIR, "config", "animateBehaviourConfiguration.ini")
@@ -90,14 +82,14 @@ def test_recording_round_trip_is_exact(tmp_path):
     assert_same(recording, read_recording(path))
     with open(path, encoding="utf-8") as written:
         data = json.load(written)
-    assert data["format"] == animation_plot.RECORDING_FORMAT and data["version"] == 1
+    assert data["format"] == RECORDING_FORMAT and data["version"] == 1
 
 
 def test_missing_samples_survive_as_nan(tmp_path):
     recording = synthetic_run(duration=1.0)
     recording.positions[3, 2] = numpy.nan
     back = read_recording(write_recording(str(tmp_path / "gap.json"), recording._replace(bands={},
-                                                                                          heading_bound=None)))
+                                                                                         heading_bound=None)))
     assert math.isnan(back.positions[3, 2])
     assert back.bands == {} and back.heading_bound is None
 
@@ -105,8 +97,8 @@ def test_missing_samples_survive_as_nan(tmp_path):
 @pytest.mark.parametrize("content, message", [
     ("{\"format\": \"other\"}", "not an animation recording"),
     ("not json", "not JSON"),
-    (json.dumps({"format": animation_plot.RECORDING_FORMAT, "version": 99}), "unsupported recording version"),
-    (json.dumps({"format": animation_plot.RECORDING_FORMAT, "version": 1, "start_epoch": 0}),
+    (json.dumps({"format": RECORDING_FORMAT, "version": 99}), "unsupported recording version"),
+    (json.dumps({"format": RECORDING_FORMAT, "version": 1, "start_epoch": 0}),
      "missing field"),
 ])
 def test_invalid_recordings_are_named(tmp_path, content, message):
@@ -116,7 +108,7 @@ def test_invalid_recordings_are_named(tmp_path, content, message):
         read_recording(str(path))
 
 
-def test_bands_from_configuration_follow_motion_plan():
+def test_bands_from_configuration_follow_the_waypoint_planner():
     config = load_configuration(CONFIG_FILE, {"behaviour": "hands"})
     bands = bands_from_configuration(config, PARTS)
     assert bands["RHand"] == JointBand(*joint_bounds(config, "RHand")[2:4], joint_bounds(config, "RHand").centre,
@@ -133,16 +125,16 @@ def test_bands_from_log_reads_animating_goals_of_the_run(tmp_path):
     log_path = str(tmp_path / "animateBehaviourLogFile.log")
     clock = [1000.0]
     with EventLog(log_path, clock=lambda: clock[0]) as log:
-        log.write(log_events.CONFIGURATION_LOADED, file="x", items={"headingBound": "0.25"})
-        log.write(log_events.GOAL_SENT, part="Leg", purpose="animate", joints=["HipPitch"], centre=[0.0],
+        log.write(contract.CONFIGURATION_LOADED, file="x", items={"headingBound": "0.25"})
+        log.write(contract.GOAL_SENT, part="Leg", purpose="animate", joints=["HipPitch"], centre=[0.0],
                   lower=[-9.0], upper=[9.0], moving=[True])  # before the run: ignored
         clock[0] = 1010.0
-        log.write(log_events.BEHAVIOUR_STARTED, behaviour=["all"], wheels="/pepper_dcm/cmd_moveto")
-        log.write(log_events.GOAL_SENT, part="Leg", purpose="animate", joints=["HipPitch", "HipRoll"],
+        log.write(contract.BEHAVIOUR_STARTED, behaviour=["all"], wheels="/pepper_dcm/cmd_moveto")
+        log.write(contract.GOAL_SENT, part="Leg", purpose="animate", joints=["HipPitch", "HipRoll"],
                   centre=[-0.11, 0.0], lower=[-0.2, -0.05], upper=[0.0, 0.05], moving=[True, False])
-        log.write(log_events.GOAL_SENT, part="Leg", purpose="animate", joints=["HipPitch", "HipRoll"],
+        log.write(contract.GOAL_SENT, part="Leg", purpose="animate", joints=["HipPitch", "HipRoll"],
                   centre=[-0.11, 0.0], lower=[-0.25, -0.05], upper=[-0.01, 0.05], moving=[True, False])
-        log.write(log_events.GOAL_SENT, part="Leg", purpose="home", joints=["HipPitch", "HipRoll"],
+        log.write(contract.GOAL_SENT, part="Leg", purpose="home", joints=["HipPitch", "HipRoll"],
                   centre=[-0.11, 0.0], lower=[-5.0, -5.0], upper=[5.0, 5.0], moving=[True, True])
     bands, heading_bound = bands_from_log(read_log(log_path), since=1005.0)
     assert bands["HipPitch"] == JointBand(-0.25, 0.0, -0.11, True)  # the hull of both bands
@@ -186,7 +178,7 @@ def test_plot_of_a_synthetic_run_is_a_png(tmp_path):
 
 def test_plot_without_bands_shows_the_parts_that_moved(tmp_path):
     recording = synthetic_run()._replace(bands={}, heading_bound=None, activations=())
-    assert [label for label, _ in animation_plot.plotted_parts(recording)] == \
+    assert [label for label, _ in plotted_parts(recording)] == \
         [part.label for part in PARTS.values()]
     output = plot_recording(recording, str(tmp_path / "bare.png"))
     with open(output, "rb") as image:

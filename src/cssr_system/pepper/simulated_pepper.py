@@ -30,21 +30,12 @@ from typing import Any, Dict, List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy
 
-from .base_rotation import RELATIVE, wheels_command_kind
-from .joint_table import (
-    BASE_MAX_ANGULAR_ACCELERATION,
-    BASE_MAX_ANGULAR_VELOCITY,
-    BASE_MOVETO_ANGULAR_VELOCITY,
-    BASE_MOVETO_SETTLE_TIME,
-    BASE_VELOCITY_COMMAND_TIMEOUT,
-    CONTROLLER_NAMES,
-    HEAD_PART,
-    JOINTS,
-    PARTS,
-    WHEEL_JOINTS,
-    Part,
-)
-from .trajectory_interpolation import JointTrajectorySpline, TrajectoryError, TrajectoryPoint
+from cssr_system.pepper.joint_table import (RELATIVE, wheels_command_kind, BASE_MAX_ANGULAR_ACCELERATION,
+                                            BASE_MAX_ANGULAR_VELOCITY, BASE_MOVETO_ANGULAR_VELOCITY,
+                                            BASE_MOVETO_SETTLE_TIME, BASE_VELOCITY_COMMAND_TIMEOUT,
+                                            CONTROLLER_NAMES, HEAD_PART, JOINTS, PARTS, WHEEL_JOINTS, Part)
+from cssr_system.pepper.trajectory_interpolation import (JointTrajectorySpline, TrajectoryError,
+                                                         TrajectoryPoint)
 
 # control_msgs/FollowJointTrajectoryResult error codes.
 SUCCESSFUL = 0

@@ -3,7 +3,7 @@
 The base turns by small random amounts around the heading it had when animation was enabled
 (heading 0 in the planner's frame, counter-clockwise positive as in ROS), never leaving
 [-heading_bound, heading_bound]: every target heading is drawn inside that interval, so, unlike
-the seed's random walk, the heading cannot drift.  The planner is open loop: after each step its
+a random walk, the heading cannot drift.  The planner is open loop: after each step its
 heading estimate is the step's target, unless the node corrects it with `set_heading` (odometry).
 
 The Wheels topic decides what a step is (`wheels_command_kind`, the one place that decides it):
@@ -38,26 +38,17 @@ from typing import NamedTuple, Optional, Tuple
 
 import numpy
 
-from .joint_table import (
-    BASE_MAX_ANGULAR_ACCELERATION,
-    BASE_MAX_ANGULAR_VELOCITY,
-    BASE_MOVETO_ANGULAR_VELOCITY,
-    BASE_MOVETO_SETTLE_TIME,
-    BASE_VELOCITY_COMMAND_TIMEOUT,
-)
+from cssr_system.pepper.joint_table import (KINDS, RELATIVE, VELOCITY, BASE_MAX_ANGULAR_ACCELERATION,
+                                            BASE_MAX_ANGULAR_VELOCITY, BASE_MOVETO_ANGULAR_VELOCITY,
+                                            BASE_MOVETO_SETTLE_TIME, BASE_VELOCITY_COMMAND_TIMEOUT)
 
-RELATIVE, VELOCITY = "relative", "velocity"
-KINDS: Tuple[str, ...] = (RELATIVE, VELOCITY)
-
-# Last name segment of the one relative Wheels topic; every other topic carries velocities.
-RELATIVE_TOPIC_SEGMENT = "cmd_moveto"
 
 MIN_TURN = 0.02  # rad; smaller turns are invisible (and a zero moveTo is a no-op)
 MAX_TURN_TIME = 0.5  # s; the largest turn is what the allowed peak speed covers in this time
 MIN_MOTION_TIME = 1.0  # s; a velocity bump never takes less, so even small turns are gentle
 MOTION_TIME_STRETCH = (1.0, 1.5)  # random stretch of the shortest allowed bump, for variety
 PAUSE_RANGE = (1.0, 4.0)  # s of stillness after each random step: a calm rhythm (6-30 per minute)
-MIN_SAMPLE_RATE = 10.0  # Hz; SPEC section 4 (the plugin's time-out is BASE_VELOCITY_COMMAND_TIMEOUT)
+MIN_SAMPLE_RATE = 10.0  # Hz (the plugin's time-out is BASE_VELOCITY_COMMAND_TIMEOUT)
 DEFAULT_SAMPLE_RATE = 20.0  # Hz
 RETURN_TOLERANCE = 1e-3  # rad; return_step does nothing closer to 0 than this
 # s beyond the driver's turn and settle time before the next relative command: a command that
@@ -65,19 +56,6 @@ RETURN_TOLERANCE = 1e-3  # rad; return_step does nothing closer to 0 than this
 RELATIVE_COMMAND_MARGIN = 0.3
 # Plan slightly inside the speed and acceleration limits so rounding never crosses them.
 _LIMIT_MARGIN = 1.0 - 1e-9
-
-
-def wheels_command_kind(topic: str) -> str:
-    """RELATIVE when the last segment of the topic name is ``cmd_moveto``, otherwise VELOCITY.
-
-    Namespaces and a leading ``~`` do not matter: ``/pepper_dcm/cmd_moveto``, ``cmd_moveto``,
-    ``/robot1/pepper_dcm/cmd_moveto`` are relative; ``/pepper/cmd_vel`` is a velocity topic.
-    """
-    name = topic.strip().rstrip("/")
-    if not name:
-        raise ValueError("wheels topic name is empty")
-    last_segment = name.rsplit("/", 1)[-1].lstrip("~")
-    return RELATIVE if last_segment == RELATIVE_TOPIC_SEGMENT else VELOCITY
 
 
 class RotationStep(NamedTuple):

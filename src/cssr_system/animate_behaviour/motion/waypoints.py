@@ -1,6 +1,6 @@
 """Which joints move, within which bounds, and the random positions they visit.
 
-Bounds follow Table 1 of the design document (SPEC section 4), per joint j:
+Bounds follow the band formula of the README ("What moves, and how"), per joint j:
     FR  = max - min                      full range of the joint (URDF limits)
     MRO = FR * maxRange[j]               maximum range of oscillation
     SRO = MRO * selectedRange / 2        half-width of the selected range
@@ -18,7 +18,7 @@ from typing import Iterable, NamedTuple, Optional, Tuple
 
 import numpy
 
-from cssr_system.joint_table import JOINTS, PARTS, centre_of, part_of, short_name
+from cssr_system.pepper.joint_table import JOINTS, PARTS, centre_of, part_of, short_name
 
 ARM_PARTS: Tuple[str, ...] = ("RArm", "LArm")
 HAND_PARTS: Tuple[str, ...] = ("RHand", "LHand")

@@ -1,328 +1,25 @@
-"""The test harness of animateBehaviour without ROS: its configuration, the oracle, the checks and the
-report. ``scripts/animateBehaviourTest.py`` carries it over ROS.
-
-Configuration (``config/animateBehaviourTestConfiguration.ini``): the line format of the node's
-configuration file (`cssr_system.topics.key_value_lines`). Harness keys:
-
-- ``tests``: a comma list of ``hands``, ``body``, ``rotation``, ``all`` (any case); run in that order;
-- ``testDuration``: seconds each test lets the node animate, >= gestureDuration + 1;
-- ``iterations``: rounds of the selected tests (integer >= 1);
-- optional ``positionTolerance`` (rad, default 0.001), ``headingTolerance`` (rad, default 0.01),
-  ``reportSamples`` (observed positions per part in the report, default 10).
-
-Every other key is a key of the node's configuration (`cssr_system.configuration.KEYS`): the values
-the node runs with during the tests, ``platform`` included. Missing node keys take the values of the
-shipped configuration. ``behaviour`` is not allowed: each test sets it. Private parameters of the
-harness override keys as the node's do. Problems are collected and raised together as one
-`ConfigurationError`, each naming the file and line (or the parameter), the key and what is expected.
-
-The oracle is written here from the specification, deliberately apart from `cssr_system.motion_plan`,
-so that a bug there is caught: which parts move per test and platform (SPEC section 4 table), and each
-joint's bounds from the seed's Table 1 (FR = max - min; MRO = FR x maxRange; SRO = MRO x selectedRange
-/ 2; LB = max(centre - SRO, min), UB = min(centre + SRO, max)), with the URDF limits and rest centres
-of `cssr_system.joint_table` (facts, not logic).
-
-`evaluate_test` turns what one test observed (service replies, the node's log entries, /joint_states,
-the base heading and the Wheels commands) into `Check` results; `format_run_header`, `format_test`
-and `format_run_footer` write the report, laid out like the seed's Appendix I.
+"""The harness's checks: what one test observed (service replies, the node's log entries, /joint_states,
+the base heading and the Wheels commands) turned into `Check` results by `evaluate_test`.
 """
-import datetime
 import math
-import os
 from collections import OrderedDict
 from typing import Dict, Iterable, List, Mapping, NamedTuple, Optional, Sequence, Tuple
 
-from cssr_system import log_events
-from cssr_system.activation import REPLY_SUCCESS
-from cssr_system.base_rotation import RELATIVE, wheels_command_kind
-from cssr_system.configuration import (KEYS, Configuration, ConfigurationError, InvalidValue, KeySpec,
-                                       check_value, integer_at_least, number_in, configuration_items,
-                                       override_text, parse_configuration)
-from cssr_system.event_log import LogEntry
-from cssr_system.joint_table import (BASE_MAX_ANGULAR_ACCELERATION, BASE_MAX_ANGULAR_VELOCITY,
-                                     BASE_VELOCITY_COMMAND_TIMEOUT, HEAD_PART, JOINTS, PARTS, centre_of, part_of,
-                                     short_name)
-from cssr_system.topics import key_value_lines, read_key_value_file, unknown_key
+from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.configuration import Configuration, configuration_items
+from cssr_system.animate_behaviour.contract import REPLY_SUCCESS
+from cssr_system.animate_behaviour.event_log import LogEntry
+from cssr_system.animate_behaviour.harness.oracle import (ExpectedMotion, JointBound, expected_motion,
+                                                          leg_slot_is_random)
+from cssr_system.animate_behaviour.harness.settings import (HOME_MAX_DURATION, BASE, BASE_STOP_LIMIT,
+                                                            DISABLE_LATENCY, EXACT, FIRST_WAYPOINT_MARGIN,
+                                                            HarnessConfiguration, HarnessTest,
+                                                            JOINT_STOP_LIMIT, LOG_CLOCK_MARGIN, QUIET_WINDOW,
+                                                            TESTS, node_configuration)
+from cssr_system.pepper.joint_table import (RELATIVE, wheels_command_kind, BASE_MAX_ANGULAR_ACCELERATION,
+                                            BASE_MAX_ANGULAR_VELOCITY, BASE_VELOCITY_COMMAND_TIMEOUT,
+                                            HEAD_PART, JOINTS, PARTS, centre_of)
 
-# ---------------------------------------------------------------------------------------------------
-# The four tests of the seed.
-
-
-class HarnessTest(NamedTuple):
-    name: str  # value of the node's behaviour key, and of the harness's tests key
-    number: int
-    title: str  # as in the seed's report
-    movement: str  # "<movement> started/ended"
-    behaviours: Tuple[str, ...]  # the node's behaviour set
-
-
-TESTS: Dict[str, HarnessTest] = OrderedDict((spec.name, spec) for spec in (
-    HarnessTest("hands", 1, "Test Flexi Hand Animate behaviour", "Flexi movement", ("hands",)),
-    HarnessTest("body", 2, "Test Subtle Body Animate behaviour", "Subtle body movement", ("body",)),
-    HarnessTest("rotation", 3, "Test Rotation Animate behaviour", "Rotation movement", ("rotation",)),
-    HarnessTest("all", 4, "Test All Animate behaviour", "All movements", ("body", "hands", "rotation")),
-))
-
-BASE = "base"  # the base, beside the joint parts, in the oracle and the report
-# The node's return to the centre after disabled lasts at most 2 s (SPEC section 5); the base may
-# first finish a turn under way (a moveTo cannot be interrupted), then turn back.
-JOINT_STOP_LIMIT = 2.5  # s from the disabled request until the joints are still
-BASE_STOP_LIMIT = 3.5  # s from the disabled request until the base is still
-QUIET_WINDOW = 0.5  # s of stillness that count as "stopped"
-FIRST_WAYPOINT_MARGIN = 0.1  # s after a goal's first waypoint time before positions are bounded
-DISABLE_LATENCY = 0.05  # s a disabled request may take to reach the controllers (SPEC section 5)
-LOG_CLOCK_MARGIN = 0.01  # s: log timestamps have milliseconds; transport takes a little
-EXACT = 1e-9  # commanded values are compared with this tolerance
-HOME_MAX_DURATION = 2.0  # s, SPEC section 5
-
-
-# ---------------------------------------------------------------------------------------------------
-# Harness configuration.
-
-class HarnessConfiguration(NamedTuple):
-    source: str  # the file it was read from
-    tests: Tuple[str, ...]  # in TESTS order
-    test_duration: float
-    iterations: int
-    position_tolerance: float
-    heading_tolerance: float
-    report_samples: int
-    node: Configuration  # the node's configuration during the tests (behaviour: all; set per test)
-
-    @property
-    def platform(self) -> str:
-        return self.node.platform
-
-
-def _test_names(text: str) -> Tuple[str, ...]:
-    names: List[str] = []
-    for item in text.split(","):
-        name = item.strip(" \t").lower()
-        if not name:
-            raise InvalidValue("empty name in the list")
-        if name not in TESTS:
-            raise InvalidValue("unknown test {!r}".format(item.strip(" \t")))
-        if name in names:
-            raise InvalidValue("{} is listed twice".format(name))
-        names.append(name)
-    return tuple(name for name in TESTS if name in names)
-
-
-def _harness_key(name: str, attribute: str, parse, expected: str, description: str,
-                 default: object = None, required: bool = False) -> KeySpec:
-    return KeySpec(name, attribute, required, default, parse, str, expected, description,
-                   "" if required else str(default))
-
-
-HARNESS_KEYS: Dict[str, KeySpec] = OrderedDict((spec.name, spec) for spec in (
-    _harness_key("tests", "tests", _test_names, "a comma list of " + ", ".join(TESTS) + " (any case)",
-                 "which tests to run", required=True),
-    _harness_key("testDuration", "test_duration", number_in(0.5, 3600.0), "a number of seconds in [0.5, 3600]",
-                 "seconds each test lets the node animate before disabling it", required=True),
-    _harness_key("iterations", "iterations", integer_at_least(1), "an integer >= 1",
-                 "rounds of the selected tests", required=True),
-    _harness_key("positionTolerance", "position_tolerance", number_in(0.0, 0.5), "a number in [0, 0.5]",
-                 "rad (hands: unit) an observed position may pass a bound by", default=0.001),
-    _harness_key("headingTolerance", "heading_tolerance", number_in(0.0, 0.5), "a number in [0, 0.5]",
-                 "rad the base heading may pass its bound by", default=0.01),
-    _harness_key("reportSamples", "report_samples", integer_at_least(1), "an integer >= 1",
-                 "observed positions per part shown in the report", default=10),
-))
-BEHAVIOUR_KEY = "behaviour"  # node key the tests set themselves
-_NODE_KEYS = tuple(key for key in KEYS if key != BEHAVIOUR_KEY)
-_KNOWN_KEYS = tuple(HARNESS_KEYS) + _NODE_KEYS
-
-
-def parse_harness_configuration(text: str, source: str, overrides: Optional[Mapping[str, object]] = None,
-                                data_dir: Optional[str] = None) -> HarnessConfiguration:
-    """The harness configuration in `text` (module docstring); `overrides` are private parameters
-    (key -> value). Raises ConfigurationError listing every problem."""
-    problems: List[str] = []
-    harness_values: Dict[str, object] = {}
-    first_lines: Dict[str, int] = {}
-    node_lines: Dict[int, str] = {}  # line number -> the line, for the node's parser
-    raw_lines = text.lstrip("\ufeff").replace("\r\n", "\n").replace("\r", "\n").split("\n")
-    for line in key_value_lines(text):
-        where = "{}:{}".format(source, line.number)
-        if line.key == BEHAVIOUR_KEY:
-            problems.append("{}: behaviour is set by each test: remove it and list the tests under "
-                            "'tests' (expected {})".format(where, HARNESS_KEYS["tests"].expected))
-        elif line.key in KEYS:
-            node_lines[line.number] = raw_lines[line.number - 1]
-        elif line.key not in HARNESS_KEYS:
-            problems.append("{}: {}".format(where, unknown_key(line.key, _KNOWN_KEYS)))
-        elif line.key in first_lines:
-            problems.append("{}: duplicated key {} (first at line {})".format(where, line.key,
-                                                                             first_lines[line.key]))
-        else:
-            first_lines[line.key] = line.number
-            checked = check_value(HARNESS_KEYS[line.key], line.value, where, "{}: {}".format(where, line.key),
-                             repr(line.value), problems)
-            if checked is not None:
-                harness_values[line.key] = checked.value
-
-    node_overrides: Dict[str, object] = {}
-    for key, value in (overrides or {}).items():
-        where = "parameter ~{}".format(key)
-        if key in HARNESS_KEYS:
-            harness_values.pop(key, None)  # the parameter replaces the file's value
-            first_lines[key] = 0
-            try:
-                text = override_text(value)
-            except TypeError as error:
-                problems.append("{} = {!r}: expected {} (a parameter of type {} is not accepted)".format(
-                    where, value, HARNESS_KEYS[key].expected, error))
-                continue
-            checked = check_value(HARNESS_KEYS[key], text, where, where, repr(value), problems)
-            if checked is not None:
-                harness_values[key] = checked.value
-        elif key == BEHAVIOUR_KEY:
-            problems.append("{}: behaviour is set by each test; choose the tests with ~tests".format(where))
-        elif key in KEYS:
-            node_overrides[key] = value
-        else:
-            problems.append("{}: {}".format(where, unknown_key(str(key), _KNOWN_KEYS)))
-
-    for spec in HARNESS_KEYS.values():
-        if spec.required and spec.name not in first_lines:
-            problems.append("{}: missing key {} (expected {})".format(source, spec.name, spec.expected))
-
-    # The node's keys keep their line numbers (other lines blank); missing ones are appended with the
-    # shipped values, and behaviour with "all" (each test replaces it).
-    node_text = [node_lines.get(number, "") for number in range(1, len(raw_lines) + 1)]
-    present = {line.key for line in key_value_lines("\n".join(node_text))}
-    node_text.extend("{} {}".format(spec.name, "all" if spec.name == BEHAVIOUR_KEY else spec.shipped)
-                     for spec in KEYS.values() if spec.required and spec.name not in present)
-    node: Optional[Configuration] = None
-    try:
-        node = parse_configuration("\n".join(node_text), source, node_overrides, data_dir)
-    except ConfigurationError as error:
-        problems.extend(error.problems)
-
-    if node is not None and "testDuration" in harness_values:
-        shortest = node.gesture_duration + 1.0
-        if harness_values["testDuration"] < shortest:  # type: ignore[operator]
-            line = first_lines.get("testDuration")
-            where = "{}:{}: testDuration".format(source, line) if line else "parameter ~testDuration"
-            problems.append("{} = {}: expected at least gestureDuration + 1 s = {:g} s, so that the first "
-                            "random position is reached".format(where, harness_values["testDuration"], shortest))
-    if problems or node is None:
-        raise ConfigurationError(problems)
-    values = {spec.attribute: harness_values.get(spec.name, spec.default) for spec in HARNESS_KEYS.values()}
-    return HarnessConfiguration(source=source, node=node, **values)  # type: ignore[arg-type]
-
-
-def load_harness_configuration(path: str, overrides: Optional[Mapping[str, object]] = None,
-                               data_dir: Optional[str] = None) -> HarnessConfiguration:
-    """The harness configuration in the file at `path`; ConfigurationError also when it cannot be read."""
-    return parse_harness_configuration(read_key_value_file(path, ConfigurationError), path, overrides,
-                                       data_dir)
-
-
-def node_configuration(harness: HarnessConfiguration, test: str) -> Configuration:
-    """The node's configuration for one test: the harness's node values with that test's behaviour."""
-    return harness.node._replace(behaviour=frozenset(TESTS[test].behaviours))
-
-
-def check_node_configuration_path(path: str, shipped_path: str) -> None:
-    """ValueError if `path` is the package's shipped configuration, which the harness must never
-    overwrite."""
-    if os.path.realpath(path) == os.path.realpath(shipped_path):
-        raise ValueError("refusing to write the test configuration to {}: it is the package's shipped "
-                         "configuration; give the node (~configFile) or the harness (~nodeConfigFile) "
-                         "another file".format(path))
-
-
-# ---------------------------------------------------------------------------------------------------
-# The oracle.
-
-ALL_JOINTS = "all"
-# SPEC section 4, written out: per behaviour and platform, part -> the joints that move (names without
-# the side letter, or ALL_JOINTS). Parts not listed do not move.
-_ELBOW_AND_WRIST = ("ElbowRoll", "WristYaw")
-EXPECTED_PARTS: Dict[str, Dict[str, Dict[str, object]]] = {
-    "body": {"robot": {"RArm": ALL_JOINTS, "LArm": ALL_JOINTS, "RHand": ALL_JOINTS, "LHand": ALL_JOINTS,
-                       "Leg": ALL_JOINTS},
-             "simulator": {"RArm": ALL_JOINTS, "LArm": ALL_JOINTS, "Leg": ALL_JOINTS}},
-    "hands": {"robot": {"RHand": ALL_JOINTS, "LHand": ALL_JOINTS, "RArm": _ELBOW_AND_WRIST,
-                        "LArm": _ELBOW_AND_WRIST},
-              "simulator": {"RArm": _ELBOW_AND_WRIST, "LArm": _ELBOW_AND_WRIST}},
-    "rotation": {"robot": {}, "simulator": {}},
-}
-BASE_ROTATES = {"body": False, "hands": False, "rotation": True}
-# SPEC section 2: the order of the values of armMaximumRange and legMaximumRange.
-ARM_RANGE_ORDER = ("ShoulderPitch", "ShoulderRoll", "ElbowRoll", "ElbowYaw", "WristYaw")
-LEG_RANGE_ORDER = ("HipPitch", "HipRoll", "KneePitch")
-
-
-class JointBound(NamedTuple):
-    name: str
-    part: str
-    centre: float
-    lower: float  # LB; == centre for a held joint
-    upper: float  # UB; == centre for a held joint
-    moving: bool
-
-
-class ExpectedMotion(NamedTuple):
-    test: str
-    platform: str
-    parts: Tuple[str, ...]  # keys of PARTS the test drives, in PARTS order
-    bounds: "OrderedDict[str, JointBound]"  # every joint of those parts
-    base: bool  # the base turns
-
-
-def maximum_range_fraction(config: Configuration, joint_name: str) -> float:
-    """The configuration's maximum-range fraction of a joint (SPEC section 2)."""
-    key = part_of(joint_name)
-    if key in ("RArm", "LArm"):
-        return float(config.arm_maximum_range[ARM_RANGE_ORDER.index(short_name(joint_name))])
-    if key in ("RHand", "LHand"):
-        return float(config.hand_maximum_range)
-    return float(config.leg_maximum_range[LEG_RANGE_ORDER.index(joint_name)])
-
-
-def table1_bounds(config: Configuration, joint_name: str) -> Tuple[float, float]:
-    """(LB, UB) of a moving joint: the seed's Table 1 with the URDF limits."""
-    limits = JOINTS[joint_name]
-    centre = centre_of(joint_name)
-    full_range = limits.upper - limits.lower
-    maximum_range_offset = full_range * maximum_range_fraction(config, joint_name)
-    selected_range_offset = maximum_range_offset * config.selected_range / 2.0
-    return max(centre - selected_range_offset, limits.lower), min(centre + selected_range_offset, limits.upper)
-
-
-def expected_motion(test: str, platform: str, config: Configuration) -> ExpectedMotion:
-    """What a test must move on a platform, and every bound, from the specification alone."""
-    moving: Dict[str, set] = {}
-    base = False
-    for behaviour in TESTS[test].behaviours:
-        base = base or BASE_ROTATES[behaviour]
-        for key, joints in EXPECTED_PARTS[behaviour][platform].items():
-            names = {short_name(name) for name in PARTS[key].joints} if joints == ALL_JOINTS else set(joints)
-            moving.setdefault(key, set()).update(names)  # type: ignore[arg-type]
-    bounds: "OrderedDict[str, JointBound]" = OrderedDict()
-    parts = tuple(key for key in PARTS if key in moving)
-    for key in parts:
-        for name in PARTS[key].joints:
-            centre = centre_of(name)
-            if short_name(name) in moving[key]:
-                lower, upper = table1_bounds(config, name)
-                bounds[name] = JointBound(name, key, centre, lower, upper, True)
-            else:
-                bounds[name] = JointBound(name, key, centre, centre, centre, False)
-    return ExpectedMotion(test, platform, parts, bounds, base)
-
-
-def leg_slot_is_random(index: int, num_points: int, leg_repeat_factor: int, num_points_leg: int) -> bool:
-    """Whether point `index` (0-based) of a leg trajectory is random (the seed's chunk pattern)."""
-    chunk = num_points // leg_repeat_factor
-    chunk_number, slot = divmod(index, chunk)
-    return chunk_number < leg_repeat_factor and slot < num_points_leg
-
-
-# ---------------------------------------------------------------------------------------------------
-# Observations and checks.
 
 class Check(NamedTuple):
     name: str
@@ -389,12 +86,12 @@ def entry_time(entry: LogEntry) -> float:
     return entry.timestamp.timestamp()
 
 
-def _fmt(value: float) -> str:
+def format_number(value: float) -> str:
     return "{:.6g}".format(value)
 
 
-def _vector(values: Iterable[float]) -> str:
-    return "[" + ", ".join(_fmt(value) for value in values) + "]"
+def format_vector(values: Iterable[float]) -> str:
+    return "[" + ", ".join(format_number(value) for value in values) + "]"
 
 
 def _first(entries: Sequence[LogEntry], event: str, after: float, condition=None) -> Optional[LogEntry]:
@@ -417,11 +114,11 @@ def check_reply(name: str, reply: str) -> Check:
 
 def check_started(spec: HarnessTest, config: Configuration, observation: Observation) -> Check:
     name = "{} started".format(spec.movement)
-    entry = _first(observation.entries, log_events.BEHAVIOUR_STARTED, observation.enable_sent)
+    entry = _first(observation.entries, contract.BEHAVIOUR_STARTED, observation.enable_sent)
     if entry is None:
         why = " ({})".format(observation.log_problem) if observation.log_problem else ""
         return Check(name, False, "no {} entry in the node's log after the enabled request{}".format(
-            log_events.BEHAVIOUR_STARTED, why))
+            contract.BEHAVIOUR_STARTED, why))
     behaviour = sorted(entry.fields.get("behaviour") or [])
     platform = entry.fields.get("platform")
     found = "behaviour {}, platform {}, parts {}, wheels {}".format(
@@ -441,10 +138,10 @@ def check_started(spec: HarnessTest, config: Configuration, observation: Observa
 
 def check_ended(spec: HarnessTest, observation: Observation) -> Check:
     name = "{} ended".format(spec.movement)
-    entry = _first(observation.entries, log_events.BEHAVIOUR_ENDED, observation.disable_sent)
+    entry = _first(observation.entries, contract.BEHAVIOUR_ENDED, observation.disable_sent)
     if entry is None:
         return Check(name, False, "no {} entry in the node's log after the disabled request".format(
-            log_events.BEHAVIOUR_ENDED))
+            contract.BEHAVIOUR_ENDED))
     return Check(name, True, "logged at +{:.3f} s after disabled (reason {}, home {})".format(
         entry_time(entry) - observation.disable_sent, entry.fields.get("reason"), entry.fields.get("home")))
 
@@ -452,16 +149,16 @@ def check_ended(spec: HarnessTest, observation: Observation) -> Check:
 def check_configuration_applied(observation: Observation) -> Check:
     """The configuration the node logged at enable is the one the harness wrote."""
     name = "Node applied the test configuration"
-    entry = _first(observation.entries, log_events.CONFIGURATION_LOADED, observation.enable_sent)
+    entry = _first(observation.entries, contract.CONFIGURATION_LOADED, observation.enable_sent)
     if entry is None:
         return Check(name, False, "no {} entry in the node's log after the enabled request".format(
-            log_events.CONFIGURATION_LOADED))
+            contract.CONFIGURATION_LOADED))
     items = entry.fields.get("items") or {}
     differences = ["{}: node used {}, the harness wrote {}".format(key, items.get(key, "nothing"), value)
                    for key, value in observation.written_items.items() if items.get(key) != value]
     if not differences:
         return Check(name, True, "{} keys as written, from {}".format(len(observation.written_items),
-                                                                    entry.fields.get("file")))
+                                                                      entry.fields.get("file")))
     detail = "; ".join(differences)
     if observation.node_overrides:
         detail += " (the node's private parameters override: {})".format(", ".join(
@@ -471,26 +168,26 @@ def check_configuration_applied(observation: Observation) -> Check:
 
 def _goals(observation: Observation, purpose: Optional[str], after: float, before: float) -> List[LogEntry]:
     return [entry for entry in observation.entries
-            if entry.event == log_events.GOAL_SENT
+            if entry.event == contract.GOAL_SENT
             and after - LOG_CLOCK_MARGIN <= entry_time(entry) <= before + LOG_CLOCK_MARGIN
             and (purpose is None or entry.fields.get("purpose") == purpose)]
 
 
 def _animation_goals(observation: Observation) -> List[LogEntry]:
-    return _goals(observation, log_events.PURPOSE_ANIMATE, observation.enable_sent, _animation_end(observation))
+    return _goals(observation, contract.PURPOSE_ANIMATE, observation.enable_sent, _animation_end(observation))
 
 
 def _animation_end(observation: Observation) -> float:
-    ended = _first(observation.entries, log_events.BEHAVIOUR_ENDED, observation.disable_sent)
+    ended = _first(observation.entries, contract.BEHAVIOUR_ENDED, observation.disable_sent)
     return entry_time(ended) if ended is not None else observation.disable_sent
 
 
-def _part_label(key: str) -> str:
+def part_label(key: str) -> str:
     return PARTS[key].label if key in PARTS else key
 
 
 def _labels(keys: Iterable[str]) -> str:
-    names = [_part_label(key) for key in keys]
+    names = [part_label(key) for key in keys]
     return ", ".join(names) if names else "none"
 
 
@@ -539,7 +236,8 @@ def check_goal_bounds(expected: ExpectedMotion, observation: Observation) -> Che
                 continue
             if abs(lower[index] - bound.lower) > EXACT or abs(upper[index] - bound.upper) > EXACT:
                 problems.append("{}: logged [{}, {}], Table 1 gives [{}, {}]".format(
-                    joint, _fmt(lower[index]), _fmt(upper[index]), _fmt(bound.lower), _fmt(bound.upper)))
+                    joint, format_number(lower[index]), format_number(upper[index]),
+                    format_number(bound.lower), format_number(bound.upper)))
             if index < len(moving) and bool(moving[index]) != bound.moving:
                 problems.append("{}: logged as {}, expected {}".format(
                     joint, "moving" if moving[index] else "held", "moving" if bound.moving else "held"))
@@ -573,8 +271,9 @@ def check_goal_positions(expected: ExpectedMotion, observation: Observation) -> 
                     outside += 1
                     if worst is None or excess > worst[0]:
                         worst = (excess, "{} = {} at goal {} point {} is outside [{}, {}] by {}".format(
-                            joint, _fmt(row[index]), goal.fields.get("goal"), row_number, _fmt(bound.lower),
-                            _fmt(bound.upper), _fmt(excess)))
+                            joint, format_number(row[index]), goal.fields.get(
+                                "goal"), row_number, format_number(bound.lower),
+                            format_number(bound.upper), format_number(excess)))
     if worst is not None:
         return Check(name, False, "{} of {} positions outside their bounds; worst: {}".format(
             outside, count, worst[1]))
@@ -608,12 +307,12 @@ def check_leg_pattern(config: Configuration, expected: ExpectedMotion, observati
                 if at_centre and leg_moves:
                     return Check(name, False, "{}: point {} (chunk {}, slot {}) should be random but is the "
                                  "centre {} ({})".format(label, index + 1, chunk_number + 1, slot + 1,
-                                                         _vector(row), pattern))
+                                                         format_vector(row), pattern))
             elif not at_centre:
                 where = "chunk {}, slot {}".format(chunk_number + 1, slot + 1) \
                     if chunk_number < config.leg_repeat_factor else "after the last chunk"
                 return Check(name, False, "{}: point {} ({}) should be the centre {} but is {} ({})".format(
-                    label, index + 1, where, _vector(centre), _vector(row), pattern))
+                    label, index + 1, where, format_vector(centre), format_vector(row), pattern))
     return Check(name, True, "{} leg goal(s): {}".format(len(goals), pattern))
 
 
@@ -664,7 +363,8 @@ def check_parts_moved(harness: HarnessConfiguration, config: Configuration, expe
                 moved.append(part.key)
             elif can_move and changes:
                 change, joint, _ = max(changes)
-                problems.append("{} did not move: largest change {} ({})".format(part.label, _fmt(change), joint))
+                problems.append("{} did not move: largest change {} ({})".format(
+                    part.label, format_number(change), joint))
         else:
             changes = [(change, joint) for change, joint in
                        ((_joint_range(observation.joints, joint, start, observation.ended), joint)
@@ -673,17 +373,17 @@ def check_parts_moved(harness: HarnessConfiguration, config: Configuration, expe
                 change, joint = max(changes)
                 moved.append(part.key)
                 problems.append("{} moved but should not: {} changed by {}".format(part.label, joint,
-                                                                                    _fmt(change)))
+                                                                                   format_number(change)))
     if observation.headings:
         reference = heading_at(observation.headings, start)
         turn = _largest_turn(observation.headings, reference, start, observation.ended)  # type: ignore[arg-type]
         if turn > harness.heading_tolerance:
             moved.append(BASE)
             if not expected.base:
-                problems.append("the base turned by {} rad but should not".format(_fmt(turn)))
+                problems.append("the base turned by {} rad but should not".format(format_number(turn)))
         elif expected.base and config.rot_maximum_range > 0 and config.heading_bound > harness.heading_tolerance:
             problems.append("the base did not turn: largest turn {} rad ({})".format(
-                _fmt(turn), observation.heading_source))
+                format_number(turn), observation.heading_source))
     elif expected.base:
         problems.append("no base heading observed ({})".format(observation.heading_source or "no source"))
     detail = "moved: {}; expected: {}".format(_labels(moved),
@@ -735,20 +435,20 @@ def check_observed_within_bounds(harness: HarnessConfiguration, config: Configur
                 if joint not in joints_outside:
                     joints_outside.append(joint)
                 if worst is None or excess > worst[0]:
-                    where = "[{}, {}]".format(_fmt(bound.lower), _fmt(bound.upper)) if bound.moving \
-                        else "its centre {} (held)".format(_fmt(bound.centre))
+                    where = "[{}, {}]".format(format_number(bound.lower), format_number(bound.upper)) if bound.moving \
+                        else "its centre {} (held)".format(format_number(bound.centre))
                     worst = (excess, "{} = {} at +{:.2f} s after {}, outside {} by {}".format(
-                        joint, _fmt(value), sample.time - origin, moment_name, where, _fmt(excess)))
+                        joint, format_number(value), sample.time - origin, moment_name, where, format_number(excess)))
     if worst is not None:
         return Check(name, False, "{}; {} of {} observed positions beyond the tolerance {} in {}".format(
-            worst[1], outside, count, _fmt(tolerance), ", ".join(joints_outside)))
+            worst[1], outside, count, format_number(tolerance), ", ".join(joints_outside)))
     if not expected.bounds:
         return Check(name, True, "no joint moves in this test")
     if not count:
         return Check(name, False, "no observed position {}".format(
             "after disabled" if returning else "between the first waypoint and disabled"))
     return Check(name, True, "{} positions of {} joints within their bounds (tolerance {})".format(
-        count, len(expected.bounds), _fmt(tolerance)))
+        count, len(expected.bounds), format_number(tolerance)))
 
 
 def check_heading_bounded(harness: HarnessConfiguration, config: Configuration, observation: Observation) -> Check:
@@ -761,7 +461,8 @@ def check_heading_bounded(harness: HarnessConfiguration, config: Configuration, 
                          observation.enable_sent, observation.ended)
     limit = config.heading_bound + harness.heading_tolerance
     detail = "largest turn {} rad (headingBound {} + tolerance {}), {}".format(
-        _fmt(turn), _fmt(config.heading_bound), _fmt(harness.heading_tolerance), observation.heading_source)
+        format_number(turn), format_number(config.heading_bound), format_number(harness.heading_tolerance),
+        observation.heading_source)
     return Check(name, turn <= limit, detail)
 
 
@@ -774,7 +475,7 @@ def check_base_speed(config: Configuration, observation: Observation) -> Check:
         return Check(name, False, "no command on {}".format(observation.base_topic))
     fastest = max(speeds)
     return Check(name, fastest <= limit * (1 + 1e-9) + EXACT, "fastest command {} rad/s on {} (limit {})".format(
-        _fmt(fastest), observation.base_topic, _fmt(limit)))
+        format_number(fastest), observation.base_topic, format_number(limit)))
 
 
 def check_nothing_after_disabled(expected: ExpectedMotion, observation: Observation) -> Check:
@@ -786,7 +487,7 @@ def check_nothing_after_disabled(expected: ExpectedMotion, observation: Observat
     homes: Dict[str, int] = {}
     for goal in _goals(observation, None, observation.disable_sent, observation.ended):
         key = goal.fields.get("part")
-        if goal.fields.get("purpose") != log_events.PURPOSE_HOME:
+        if goal.fields.get("purpose") != contract.PURPOSE_HOME:
             if entry_time(goal) > end + LOG_CLOCK_MARGIN:
                 problems.append("{} goal {} to {} at +{:.3f} s after disabled".format(
                     goal.fields.get("purpose"), goal.fields.get("goal"), key,
@@ -797,21 +498,21 @@ def check_nothing_after_disabled(expected: ExpectedMotion, observation: Observat
         centre = [centre_of(joint) for joint in goal.fields.get("joints") or []]
         if not rows or any(abs(value - middle) > EXACT for value, middle in zip(rows[-1], centre)):
             problems.append("the return goal of {} ends at {}, not at the centre {}".format(
-                key, _vector(rows[-1]) if rows else "nothing", _vector(centre)))
+                key, format_vector(rows[-1]) if rows else "nothing", format_vector(centre)))
         if times and times[-1] > HOME_MAX_DURATION + EXACT:
             problems.append("the return goal of {} lasts {} s (at most {:g} s)".format(
-                key, _fmt(times[-1]), HOME_MAX_DURATION))
+                key, format_number(times[-1]), HOME_MAX_DURATION))
     problems.extend("{} return goals to {}".format(count, key) for key, count in homes.items() if count > 1)
-    turns = [entry for entry in observation.entries if entry.event == log_events.BASE_COMMAND
+    turns = [entry for entry in observation.entries if entry.event == contract.BASE_COMMAND
              and entry_time(entry) > end + LOG_CLOCK_MARGIN
-             and entry.fields.get("purpose") == log_events.PURPOSE_ANIMATE]
+             and entry.fields.get("purpose") == contract.PURPOSE_ANIMATE]
     if turns:
         problems.append("{} random base turn(s) after disabled".format(len(turns)))
     if problems:
         return Check(name, False, "; ".join(problems))
-    returns = [entry for entry in observation.entries if entry.event == log_events.BASE_COMMAND
+    returns = [entry for entry in observation.entries if entry.event == contract.BASE_COMMAND
                and entry_time(entry) >= observation.disable_sent - LOG_CLOCK_MARGIN
-               and entry.fields.get("purpose") != log_events.PURPOSE_ANIMATE]
+               and entry.fields.get("purpose") != contract.PURPOSE_ANIMATE]
     return Check(name, True, "return-to-centre goals: {}{}".format(
         _labels(key for key in PARTS if key in homes), "; base return turn(s): {}".format(len(returns))
         if returns else ""))
@@ -882,7 +583,8 @@ def check_motion_stopped(harness: HarnessConfiguration, config: Configuration, e
         if offsets and max(offsets)[0] > harness.position_tolerance:
             offset, joint = max(offsets)
             problems.append("{} rests at {}, {} from its centre {} (homeOnDisable true)".format(
-                joint, _fmt(last.positions[joint]), _fmt(offset), _fmt(expected.bounds[joint].centre)))
+                joint, format_number(last.positions[joint]), format_number(offset),
+                format_number(expected.bounds[joint].centre)))
     returned = None
     if expected.base and config.home_on_disable and observation.headings:
         # The node turns the base back to its heading at enable (homeOnDisable). A velocity base
@@ -892,12 +594,12 @@ def check_motion_stopped(harness: HarnessConfiguration, config: Configuration, e
         allowed = return_tolerance(harness, config, observation.base_topic)
         if returned > allowed:
             problems.append("the base rests {} rad from its heading at enable (allowed {}; homeOnDisable "
-                            "true)".format(_fmt(returned), _fmt(allowed)))
+                            "true)".format(format_number(returned), format_number(allowed)))
     if problems and expected.base:
         commands = ["{} turn {} rad at +{:.2f} s".format(entry.fields.get("purpose"),
-                                                         _fmt(entry.fields.get("angle", 0.0)),
+                                                         format_number(entry.fields.get("angle", 0.0)),
                                                          entry_time(entry) - observation.disable_sent)
-                    for entry in observation.entries if entry.event == log_events.BASE_COMMAND
+                    for entry in observation.entries if entry.event == contract.BASE_COMMAND
                     and entry_time(entry) >= observation.disable_sent - LOG_CLOCK_MARGIN]
         if commands:
             problems.append("base commands logged after disabled: " + ", ".join(commands))
@@ -905,9 +607,9 @@ def check_motion_stopped(harness: HarnessConfiguration, config: Configuration, e
         return Check(name, False, "; ".join(problems))
     detail = "still from +{:.2f} s after disabled (limit {:g} s)".format(since - observation.disable_sent, limit)
     if offsets:
-        detail += ", at the centre (largest offset {})".format(_fmt(max(offsets)[0]))
+        detail += ", at the centre (largest offset {})".format(format_number(max(offsets)[0]))
     if returned is not None:
-        detail += ", the base back at its heading at enable (off by {} rad)".format(_fmt(returned))
+        detail += ", the base back at its heading at enable (off by {} rad)".format(format_number(returned))
     return Check(name, True, detail)
 
 
@@ -938,7 +640,7 @@ def _sample_rows(observation: Observation, expected: ExpectedMotion, count: int)
 
 def evaluate_test(test: str, iteration: int, harness: HarnessConfiguration,
                   observation: Observation) -> HarnessOutcome:
-    """Every check of one test, in the order of the seed's report."""
+    """Every check of one test, in the order of the report."""
     spec = TESTS[test]
     config = node_configuration(harness, test)
     expected = expected_motion(test, config.platform, config)
@@ -974,8 +676,8 @@ def evaluate_test(test: str, iteration: int, harness: HarnessConfiguration,
             random_count[key] = len(rows)
     source = "/joint_states" + ("; base: {}".format(observation.heading_source) if expected.base else "")
     return HarnessOutcome(test, iteration, config.platform, configuration_items(config), expected, tuple(checks),
-                       random_positions, random_count, _sample_rows(observation, expected, harness.report_samples),
-                       source)
+                          random_positions, random_count, _sample_rows(observation, expected, harness.report_samples),
+                          source)
 
 
 def failure_message(outcome: HarnessOutcome) -> str:
@@ -984,9 +686,6 @@ def failure_message(outcome: HarnessOutcome) -> str:
                                                                 check.name, check.detail)
                      for check in outcome.failures)
 
-
-# ---------------------------------------------------------------------------------------------------
-# Headings from the Wheels commands, when the robot publishes no odometry.
 
 def headings_from_commands(commands: Sequence[BaseCommand], relative: bool, start: float, end: float,
                            step: float = 0.02, velocity_timeout: float = BASE_VELOCITY_COMMAND_TIMEOUT
@@ -1016,100 +715,3 @@ def headings_from_commands(commands: Sequence[BaseCommand], relative: bool, star
         moment = nxt
         samples.append(HeadingSample(moment, heading))
     return samples
-
-
-# ---------------------------------------------------------------------------------------------------
-# The report, laid out like the seed's Appendix I.
-
-RULE = "=" * 90
-THIN_RULE = "-" * 90
-
-
-def _timestamp(moment: datetime.datetime) -> str:
-    return moment.strftime("%Y-%m-%d %H:%M:%S")
-
-
-def format_run_header(started: datetime.datetime, harness: HarnessConfiguration, iteration: int,
-                      node_name: str, node_config_file: str, node_log_file: str,
-                      iterations: Optional[int] = None) -> str:
-    lines = [RULE, "=== New Test Run Started at {} ===".format(_timestamp(started)), RULE,
-             "Platform                 : {}".format(harness.platform),
-             "Iteration                : {} of {}".format(iteration, iterations or harness.iterations),
-             "Tests                    : {} ({:g} s each)".format(", ".join(harness.tests), harness.test_duration),
-             "Harness configuration    : {}".format(harness.source),
-             "Node                     : {}".format(node_name),
-             "Node configuration file  : {}".format(node_config_file),
-             "Node log file            : {}".format(node_log_file),
-             "Tolerances               : position {}, heading {} rad".format(
-                 _fmt(harness.position_tolerance), _fmt(harness.heading_tolerance)),
-             ""]
-    return "\n".join(lines) + "\n"
-
-
-def _bounds_text(expected: ExpectedMotion, key: str) -> str:
-    texts = []
-    for joint in PARTS[key].joints:
-        bound = expected.bounds[joint]
-        texts.append("{} [{}, {}]".format(joint, _fmt(bound.lower), _fmt(bound.upper)) if bound.moving
-                     else "{} held at {}".format(joint, _fmt(bound.centre)))
-    return ", ".join(texts)
-
-
-def format_test(outcome: HarnessOutcome) -> str:
-    """The report section of one test."""
-    spec = TESTS[outcome.test]
-    expected = outcome.expected
-    width = max(len(key) for key in outcome.items) + 1
-    lines = [THIN_RULE, "Test {}: {} (behaviour {}, iteration {})".format(spec.number, spec.title, spec.name,
-                                                                           outcome.iteration), THIN_RULE,
-             "", "Configuration Settings:"]
-    lines.extend("{} : {}".format(key.ljust(width), value) for key, value in outcome.items.items())
-    lines.extend(["", "Joint names:"])
-    for key in expected.parts:
-        lines.append("{}: [{}]".format(_part_label(key), ", ".join('"{}"'.format(j) for j in PARTS[key].joints)))
-    if expected.base:
-        lines.append('base: ["Wheels"]')
-    lines.extend(["", "Home positions (the centres of the random positions):"])
-    for key in expected.parts:
-        lines.append("{}: {}".format(_part_label(key), _vector(PARTS[key].centre)))
-    if expected.base:
-        lines.append("base: heading at enable, turns bounded by {} rad".format(outcome.items.get("headingBound")))
-    if expected.parts:
-        lines.extend(["", "Bounds of the random positions (Table 1, computed by the harness):"])
-        for key in expected.parts:
-            lines.append("{}: {}".format(_part_label(key), _bounds_text(expected, key)))
-    if outcome.random_positions:
-        lines.extend(["", "Random positions sent (first goal of each part, from the node's log):"])
-        for key, rows in outcome.random_positions.items():
-            lines.append("{} ({} of {} points):".format(_part_label(key), len(rows),
-                                                         outcome.random_count.get(key, 0)))
-            lines.extend(_vector(row) for row in rows)
-    lines.extend(["", "Positions observed while enabled ({}):".format(outcome.observed_source)])
-    for key, rows in outcome.observed.items():
-        if key == BASE:
-            lines.append("base turn from the heading at enable (rad):")
-        else:
-            lines.append("{}:".format(_part_label(key)))
-        lines.extend(_vector(row) for row in rows)
-    if not outcome.observed:
-        lines.append("(no part moves in this test)")
-    lines.extend(["", "Checks:"])
-    for check in outcome.checks:
-        lines.append("{}: {}".format(check.name, "PASSED" if check.passed else "FAILED"))
-        lines.append("    {}".format(check.detail))
-    lines.extend(["", "Result of Test {}: {}".format(spec.number, "PASSED" if outcome.passed else "FAILED"), ""])
-    return "\n".join(lines) + "\n"
-
-
-def format_run_footer(outcomes: Sequence[HarnessOutcome]) -> str:
-    passed = all(outcome.passed for outcome in outcomes) and bool(outcomes)
-    checks = sum(len(outcome.checks) for outcome in outcomes)
-    failed = sum(len(outcome.failures) for outcome in outcomes)
-    lines = [RULE, "Test Run Completed with Result: {} ({} test(s), {} checks, {} failed)".format(
-        "PASSED" if passed else "FAILED", len(outcomes), checks, failed)]
-    for outcome in outcomes:
-        lines.append("  Test {}: {}: {}".format(TESTS[outcome.test].number, TESTS[outcome.test].title,
-                                               "PASSED" if outcome.passed else "FAILED"))
-        lines.extend("    FAILED: {}: {}".format(check.name, check.detail) for check in outcome.failures)
-    lines.extend([RULE, ""])
-    return "\n".join(lines) + "\n"

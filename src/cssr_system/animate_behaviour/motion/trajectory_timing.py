@@ -32,13 +32,9 @@ from typing import List, NamedTuple, Sequence
 
 import numpy
 
-from cssr_system.joint_table import JOINTS, speed_limit
-from cssr_system.trajectory_interpolation import (
-    JointTrajectorySpline,
-    TrajectoryPoint,
-    points_from_arrays,
-    quintic_coefficients,
-)
+from cssr_system.pepper.joint_table import JOINTS, speed_limit
+from cssr_system.pepper.trajectory_interpolation import (JointTrajectorySpline, TrajectoryPoint,
+                                                         points_from_arrays, quintic_coefficients)
 
 SUBINTERVALS = 16  # pieces of [0, 1] for the Bernstein bounds
 LIMIT_SCALES = (1.0, 0.5, 0.25, 0.125)  # tried in order; 0 is always monotone

@@ -1,0 +1,46 @@
+"""What other programs rely on: the node's name, its service and topic names, the requests and replies
+of setActivation, its private parameters, and the names of the events in its log file. The README's
+"The service", "Topics, actions and services" and "Log file" sections describe them."""
+from typing import Optional
+
+NODE_NAME = "animateBehaviour"
+SERVICE_NAME = NODE_NAME + "/setActivation"  # relative: a namespace applies
+SERVICE_PATH = "/" + SERVICE_NAME  # where it is when the node runs in the root namespace
+
+ENABLED = "enabled"
+DISABLED = "disabled"
+ACCEPTED_STATES = (ENABLED, DISABLED)
+REPLY_SUCCESS = "1"
+REPLY_FAILURE = "0"
+
+
+def parse_activation_state(requested: str) -> Optional[str]:
+    """ENABLED or DISABLED for a valid request (blanks around it and letter case ignored), else None."""
+    state = (requested or "").strip().lower()
+    return state if state in ACCEPTED_STATES else None
+
+
+# Events of animateBehaviourLogFile.log: the node writes them, the harness and the plot read them.
+NODE_STARTED = "node_started"  # version, node, parameters, config_file, log_file
+CONFIGURATION_LOADED = "configuration_loaded"  # file, items (every key -> value as in the file)
+CONFIGURATION_INVALID = "configuration_invalid"  # file, problems
+ACTIVATION_REQUEST = "activation_request"  # state (as received), reply
+BEHAVIOUR_STARTED = "behaviour_started"  # behaviour, platform, parts, wheels
+BEHAVIOUR_ENDED = "behaviour_ended"  # reason ("disabled", "shutdown", "reconfigured"), home
+# Values of the `purpose` field of goal_sent, goal_finished and base_command.
+PURPOSE_ANIMATE = "animate"  # random motion (goals and base turns)
+PURPOSE_HOME = "home"  # a part's return to its centre after disable
+PURPOSE_RETURN = "return"  # the base's turn back to its heading at enable
+
+GOAL_SENT = "goal_sent"  # part, label, action, purpose, joints, centre, lower, upper, moving, times, positions
+GOAL_FINISHED = "goal_finished"  # part, action, purpose, goal, state, error_code, error_string
+CONTROLLER_CONNECTED = "controller_connected"  # part, action
+CONTROLLER_WAITING = "controller_waiting"  # part, action, seconds
+BASE_COMMAND = "base_command"  # topic, kind, purpose, angle, target_heading, period, velocities
+ERROR = "error"  # where, message
+NODE_STOPPED = "node_stopped"  # reason
+LOG_EVENTS = (NODE_STARTED, CONFIGURATION_LOADED, CONFIGURATION_INVALID, ACTIVATION_REQUEST, BEHAVIOUR_STARTED,
+              BEHAVIOUR_ENDED, GOAL_SENT, GOAL_FINISHED, CONTROLLER_CONNECTED, CONTROLLER_WAITING, BASE_COMMAND,
+              ERROR, NODE_STOPPED)
+JOINT_STATES_TOPIC = "joint_states"  # relative: resolves to /joint_states
+NODE_PARAMETERS = ("configFile", "logFile")  # private parameters that are not configuration keys

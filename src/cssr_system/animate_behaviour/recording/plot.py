@@ -1,0 +1,207 @@
+"""The plot of a recorded run, and the plotAnimation command.
+
+The plot (`plot_recording`, matplotlib's Agg backend, a PNG): one panel per animated part (each
+joint a line, its allowed band [lower, upper] shaded in the line's colour), one panel of the base
+heading with its bound around the heading at enable, and the enable/disable instants as vertical
+lines in every panel. Each panel's title says whether every sample stayed in its band.
+
+Pure Python, numpy and matplotlib: no ROS import.
+"""
+import argparse
+import datetime
+import math
+import os
+import sys
+from typing import Any, Optional, Sequence
+
+from cssr_system.animate_behaviour.contract import ENABLED
+from cssr_system.animate_behaviour.recording.recording import (BAND_TOLERANCE, Recording, heading_at_time,
+                                                               band_excess, enabled_intervals,
+                                                               heading_excess, plotted_parts,
+                                                               bands_from_configuration_file, bands_from_log,
+                                                               read_recording)
+
+
+def _title_of(recording: Recording) -> str:
+    moment = datetime.datetime.fromtimestamp(recording.start_epoch).strftime("%Y-%m-%d %H:%M:%S")
+    details = ", ".join("%s %s" % (key, value) for key, value in recording.info.items()
+                        if key in ("behaviour", "platform"))
+    return "animateBehaviour: joints and base heading over time" + \
+        ("  (%s; %s)" % (details, moment) if details else "  (%s)" % moment)
+
+
+def _draw_activations(axis: Any, recording: Recording) -> None:
+    for time, state in recording.activations:
+        if state == ENABLED:
+            axis.axvline(time, color="tab:green", linewidth=1.6)
+        else:
+            axis.axvline(time, color="tab:red", linewidth=1.6, linestyle="--")
+
+
+def time_origin(recording: Recording) -> float:
+    """Time shown as 0 in the plot: the first enable, else the start of the recording."""
+    enables = [time for time, state in recording.activations if state == ENABLED]
+    return enables[0] if enables else 0.0
+
+
+def plot_recording(recording: Recording, output_path: str, title: Optional[str] = None) -> str:
+    """Plot `recording` into the PNG `output_path` (module docstring); returns its absolute path."""
+    import matplotlib
+    matplotlib.use("Agg")  # no display needed; safe when pyplot was not imported before
+    import matplotlib.pyplot as pyplot
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    origin = time_origin(recording)
+    shifted = recording._replace(times=recording.times - origin,
+                                 heading_times=recording.heading_times - origin,
+                                 activations=tuple((time - origin, state) for time, state in recording.activations))
+    parts = plotted_parts(shifted)
+    panels = len(parts) + 1  # the base heading last
+    columns = 2 if panels > 3 else 1
+    rows = int(math.ceil(panels / float(columns)))
+    figure, axes = pyplot.subplots(rows, columns, figsize=(8.0 * columns, 3.4 * rows + 1.0),
+                                   sharex=True, squeeze=False)
+    flat_axes = [axis for row in axes for axis in row]
+    colours = pyplot.rcParams["axes.prop_cycle"].by_key()["color"]
+    for index, (label, joints) in enumerate(parts):
+        _plot_part(flat_axes[index], shifted, label, joints, colours)
+    _plot_heading(flat_axes[len(parts)], shifted)
+    for axis in flat_axes[panels:]:
+        axis.set_visible(False)
+    enabled = any(state == ENABLED for _, state in recording.activations)
+    x_label = "time since enabled (s)" if enabled else "time since the recording started (s)"
+    for column in range(columns):  # x labels under the lowest visible panel of each column
+        for row in reversed(range(rows)):
+            if row * columns + column < panels:
+                axes[row][column].set_xlabel(x_label)
+                axes[row][column].tick_params(labelbottom=True)
+                break
+    figure.suptitle(title or _title_of(recording), fontsize=13)
+    key = [Line2D([], [], color="tab:green", linewidth=1.6, label="enabled"),
+           Line2D([], [], color="tab:red", linewidth=1.6, linestyle="--", label="disabled"),
+           Patch(facecolor="grey", alpha=0.25, label="allowed band of the joint of the same colour"),
+           Line2D([], [], color="grey", linewidth=0.8, linestyle=":", label="band edges; alone: joint held")]
+    figure.legend(handles=key, loc="upper center", ncol=4, fontsize=9, frameon=False,
+                  bbox_to_anchor=(0.5, 0.965))
+    figure.tight_layout(rect=(0, 0, 1, 0.94))
+    output_path = os.path.abspath(output_path)
+    os.makedirs(os.path.dirname(output_path), exist_ok=True)
+    figure.savefig(output_path, dpi=100)
+    pyplot.close(figure)
+    return output_path
+
+
+def _plot_part(axis: Any, recording: Recording, label: str, joints: Sequence[str],
+               colours: Sequence[str]) -> None:
+    worst_joint, worst = "", 0.0
+    for index, name in enumerate(joints):
+        colour = colours[index % len(colours)]
+        band = recording.bands.get(name)
+        if band is not None and band.moving:
+            axis.axhspan(band.lower, band.upper, color=colour, alpha=0.13, linewidth=0)
+            axis.axhline(band.lower, color=colour, alpha=0.6, linewidth=0.8, linestyle=":")
+            axis.axhline(band.upper, color=colour, alpha=0.6, linewidth=0.8, linestyle=":")
+        elif band is not None:
+            axis.axhline(band.centre, color=colour, alpha=0.6, linewidth=0.8, linestyle=":")
+        if name in recording.joint_names:
+            values = recording.positions[:, recording.joint_names.index(name)]
+            shown = name + ("" if band is None or band.moving else " (held)")
+            axis.plot(recording.times, values, color=colour, linewidth=1.3, label=shown)
+        excess = band_excess(recording, name)
+        if excess > worst:
+            worst_joint, worst = name, excess
+    _draw_activations(axis, recording)
+    verdict = "every joint within its band" if worst <= BAND_TOLERANCE else \
+        "%s %.3f beyond its band" % (worst_joint, worst)
+    axis.set_title("%s: %s" % (label, verdict), fontsize=11,
+                   color="black" if worst <= BAND_TOLERANCE else "tab:red")
+    hand = all(name.endswith("Hand") for name in joints)
+    axis.set_ylabel("opening (0 closed, 1 open)" if hand else "angle (rad)")
+    axis.grid(True, alpha=0.3)
+    _leave_room_for_legend(axis)
+    axis.legend(loc="upper left", fontsize=8, ncol=min(len(joints), 5), framealpha=0.85,
+                handlelength=1.5, columnspacing=1.0)
+
+
+def _leave_room_for_legend(axis: Any) -> None:
+    bottom, top = axis.get_ylim()
+    axis.set_ylim(bottom, top + 0.22 * (top - bottom))
+
+
+def _plot_heading(axis: Any, recording: Recording) -> None:
+    if len(recording.headings):
+        axis.plot(recording.heading_times, recording.headings, color="tab:blue", linewidth=1.4,
+                  label="heading")
+    if recording.heading_bound is not None:
+        labelled = False
+        for start, end in enabled_intervals(recording):
+            reference = heading_at_time(recording, start)
+            if reference is None:
+                continue
+            axis.fill_between([start, end], reference - recording.heading_bound,
+                              reference + recording.heading_bound, color="tab:blue", alpha=0.12,
+                              linewidth=0,
+                              label=None if labelled else "bound: heading at enable \u00b1 %.2f rad"
+                              % recording.heading_bound)
+            labelled = True
+        excess = heading_excess(recording)
+        verdict = "within its bound" if excess <= BAND_TOLERANCE else "%.3f rad beyond its bound" % excess
+    else:
+        verdict = "base not animated (no bound)"
+    _draw_activations(axis, recording)
+    topic = " (%s)" % recording.heading_topic if recording.heading_topic else ""
+    axis.set_title("base heading%s: %s" % (topic, verdict), fontsize=11)
+    axis.set_ylabel("heading (rad)")
+    axis.grid(True, alpha=0.3)
+    bottom, top = axis.get_ylim()
+    if top - bottom < 0.2:  # a still base: show a readable scale, not float noise
+        middle = (top + bottom) / 2.0
+        axis.set_ylim(middle - 0.1, middle + 0.1)
+    _leave_room_for_legend(axis)
+    axis.legend(loc="upper left", fontsize=8, ncol=2, framealpha=0.85)
+
+
+PLOT_COMMAND_USAGE = """plotAnimation: plots a recorded animateBehaviour run (joints, their bands, base heading).
+
+rosrun cssr_system plotAnimation.py RECORDING [--log LOGFILE] [--config FILE] [-o OUT.png]
+
+RECORDING is a recording file (format: cssr_system.animate_behaviour.recording.recording), e.g. the demo's
+<workspace>/demo/animation.json. The allowed band of each joint comes from the node's log file when
+--log is given (its goal_sent entries during the run), else from the recording itself, else from
+the configuration (--config, default the package's, with the recording's platform and behaviour).
+The plot goes to OUT.png (default: RECORDING with the extension .png); its path is printed.
+"""
+
+
+def main(argv):
+    parser = argparse.ArgumentParser(prog="plotAnimation.py", description=PLOT_COMMAND_USAGE.split("\n\n")[0])
+    parser.add_argument("recording", help="recording file (.json) of a run")
+    parser.add_argument("--log", help="the node's log file of that run: bands from its goal_sent entries")
+    parser.add_argument("--config", help="configuration file for the bands when neither --log nor the "
+                                         "recording has them (default: the package's)")
+    parser.add_argument("-o", "--output", help="PNG to write (default: RECORDING with .png)")
+    arguments = parser.parse_args([argument for argument in argv if not argument.startswith("__")])
+    try:
+        recording = read_recording(arguments.recording)
+        if arguments.log:
+            from cssr_system.animate_behaviour.event_log import read_log
+            end = recording.start_epoch + max(
+                [0.0] + list(recording.times[-1:]) + list(recording.heading_times[-1:]))
+            bands, heading_bound = bands_from_log(read_log(arguments.log), since=recording.start_epoch - 1.0,
+                                                  until=end + 1.0)
+            if not bands:
+                raise ValueError("%s: no goal_sent entries during the recorded run" % arguments.log)
+            recording = recording._replace(bands=bands, heading_bound=heading_bound)
+        elif arguments.config or not recording.bands:
+            from cssr_system.animate_behaviour.configuration import shipped_configuration_path
+            config_file = arguments.config or shipped_configuration_path()
+            overrides = {key: recording.info[key] for key in ("platform", "behaviour") if recording.info.get(key)}
+            bands, heading_bound = bands_from_configuration_file(config_file, overrides)
+            recording = recording._replace(bands=bands, heading_bound=heading_bound)
+        output = arguments.output or os.path.splitext(arguments.recording)[0] + ".png"
+        print(plot_recording(recording, output))
+    except (OSError, ValueError) as error:
+        print("plotAnimation: error: %s" % error, file=sys.stderr)
+        return 1
+    return 0

@@ -1,0 +1,207 @@
+"""simulatedPepper: a kinematic Pepper on the ROS interfaces of the robot or of the Gazebo simulator.
+
+The model (controllers, base) is cssr_system.pepper.simulated_pepper; this node only carries it over ROS.
+
+Parameters (private):
+  ~platform            "robot" (default: /pepper_dcm, hand controllers, cmd_moveto) or "simulator"
+                       (/pepper, no hand controllers, cmd_vel)
+  ~initial_posture     "rest" (default: every part at its centre, head 0) or "zero"
+  ~moveto_keep_latest  false (default): cmd_moveto commands arriving while the base turns or settles are
+                       dropped; true: the latest of them runs when the base is free (a queue of one)
+  ~feedback_rate       Hz of action feedback for active goals (default 10; 0: none)
+Serves:
+  <ns>/<Name>_controller/follow_joint_trajectory   control_msgs/FollowJointTrajectory (ActionServer)
+  <ns>/cmd_moveto or <ns>/cmd_vel                  geometry_msgs/Twist (subscribed)
+Publishes:
+  /joint_states        sensor_msgs/JointState, 50 Hz, every joint and the wheels
+  <ns>/odom            nav_msgs/Odometry, 50 Hz, base heading (frame odom, child base_footprint)
+  ~limit_violations    std_msgs/UInt32, latched: goal point values beyond a joint limit so far
+"""
+import functools
+import threading
+
+import actionlib
+import rospy
+from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryFeedback,
+                              FollowJointTrajectoryResult)
+from geometry_msgs.msg import Twist
+from nav_msgs.msg import Odometry
+from sensor_msgs.msg import JointState
+from std_msgs.msg import UInt32
+from trajectory_msgs.msg import JointTrajectoryPoint
+
+from cssr_system.pepper.simulated_pepper import (PLATFORMS, POSTURES, GoalPoint, SimulatedPepper,
+                                                 action_namespace, base_topic, odometry_topic, yaw_quaternion)
+
+NODE_NAME = "simulatedPepper"
+UPDATE_RATE = 50.0  # Hz: controllers, /joint_states and odometry
+MAX_VIOLATIONS_LOGGED = 4  # per goal, so one bad goal makes one readable warning
+
+
+class SimulatedPepperNode:
+    def __init__(self, platform: str, initial_posture: str, moveto_keep_latest: bool, feedback_rate: float):
+        # The model's clock starts at 0 at start-up: small numbers keep the splines' arithmetic exact.
+        self._epoch = rospy.get_time()
+        # Guards the model. Lock order: an action server's own lock first (actionlib holds it around our
+        # callbacks), then this one; never the reverse, so goal handles are used without this lock.
+        self._lock = threading.Lock()
+        self.model = SimulatedPepper(platform, initial_posture, self._now(), moveto_keep_latest)
+        self.platform = self.model.platform
+        self._feedback_period = 1.0 / feedback_rate if feedback_rate > 0 else None
+        self._next_feedback = 0.0
+        self._reported_violations = -1
+        self._violation_lock = threading.Lock()
+
+        self.joint_state_publisher = rospy.Publisher("/joint_states", JointState, queue_size=10)
+        self.odometry_publisher = rospy.Publisher(odometry_topic(self.platform), Odometry, queue_size=10)
+        self.violation_publisher = rospy.Publisher("~limit_violations", UInt32, queue_size=1, latch=True)
+        self._publish_violations()
+        self.servers = {}
+        for key in self.model.controllers:
+            self.servers[key] = actionlib.ActionServer(
+                action_namespace(self.platform, key), FollowJointTrajectoryAction,
+                goal_cb=functools.partial(self.on_goal, key), cancel_cb=functools.partial(self.on_cancel, key),
+                auto_start=False)
+        for server in self.servers.values():
+            server.start()
+        self.base_subscriber = rospy.Subscriber(base_topic(self.platform), Twist, self.on_twist, queue_size=10)
+        self._joint_state = JointState(name=list(self.model.joint_names))
+        self._odometry = Odometry()
+        self._odometry.header.frame_id = "odom"
+        self._odometry.child_frame_id = "base_footprint"
+        self.timer = rospy.Timer(rospy.Duration(1.0 / UPDATE_RATE), self.on_tick)
+        rospy.loginfo("%s: platform %s, namespace %s, controllers %s, base %s (%s)", NODE_NAME, self.platform.name,
+                      self.platform.namespace,
+                      ", ".join(controller.name for controller in self.model.controllers.values()),
+                      base_topic(self.platform), self.platform.base_kind)
+
+    def _now(self) -> float:
+        return rospy.get_time() - self._epoch
+
+    # -- actions -------------------------------------------------------------------------------
+    def on_goal(self, key: str, goal_handle) -> None:
+        controller = self.model.controllers[key]
+        trajectory = goal_handle.get_goal().trajectory
+        points = [GoalPoint(point.time_from_start.to_sec(), point.positions, point.velocities, point.accelerations)
+                  for point in trajectory.points]
+        stamp = None if trajectory.header.stamp.is_zero() else trajectory.header.stamp.to_sec() - self._epoch
+        with self._lock:
+            acceptance = controller.submit(goal_handle, trajectory.joint_names, points, self._now(), stamp)
+        if not acceptance.accepted:
+            rospy.logwarn("%s: goal rejected (error code %d): %s", NODE_NAME, acceptance.error_code,
+                          acceptance.error_string)
+            goal_handle.set_rejected(FollowJointTrajectoryResult(error_code=acceptance.error_code,
+                                                                 error_string=acceptance.error_string),
+                                     acceptance.error_string)
+            return
+        if acceptance.preempted_goal is not None:  # as the controller does: preempt, then accept
+            acceptance.preempted_goal.set_canceled(
+                FollowJointTrajectoryResult(error_string="preempted by a new goal"), "preempted by a new goal")
+        goal_handle.set_accepted()
+        rospy.logdebug("%s: %s accepted a goal of %d point(s)%s", NODE_NAME, controller.name, len(points),
+                       ", preempting the active one" if acceptance.preempted_goal is not None else "")
+        if acceptance.limit_violations:
+            self._report_violations(controller.name, acceptance.limit_violations)
+
+    def on_cancel(self, key: str, goal_handle) -> None:
+        controller = self.model.controllers[key]
+        with self._lock:
+            stopped = controller.cancel(goal_handle, self._now())
+        goal_handle.set_canceled(FollowJointTrajectoryResult(error_string="canceled"), "canceled")
+        rospy.logdebug("%s: %s goal canceled%s", NODE_NAME, controller.name, ", holding" if stopped else "")
+
+    def _report_violations(self, controller_name: str, violations) -> None:
+        described = ["point {} {} = {:.5g} beyond its limit {:.5g}".format(
+            violation.point_index, violation.joint, violation.value, violation.limit)
+            for violation in violations[:MAX_VIOLATIONS_LOGGED]]
+        if len(violations) > MAX_VIOLATIONS_LOGGED:
+            described.append("and {} more".format(len(violations) - MAX_VIOLATIONS_LOGGED))
+        rospy.logwarn("%s: %s goal beyond the joint limits, executed at the limits: %s", NODE_NAME,
+                      controller_name, "; ".join(described))
+        self._publish_violations()
+
+    def _publish_violations(self) -> None:
+        with self._violation_lock:  # goals of different controllers arrive on different threads
+            with self._lock:
+                count = self.model.limit_violation_count
+            if count != self._reported_violations:
+                self._reported_violations = count
+                self.violation_publisher.publish(UInt32(data=count))
+
+    # -- base ----------------------------------------------------------------------------------
+    def on_twist(self, message: Twist) -> None:
+        with self._lock:
+            reply = self.model.base_command(message.linear.x, message.linear.y, message.angular.z, self._now())
+        if message.linear.x or message.linear.y:
+            rospy.logwarn_once("%s: linear.x/y of %s are not simulated (the base only turns)", NODE_NAME,
+                               base_topic(self.platform))
+        if reply == "invalid":
+            rospy.logwarn("%s: ignored a %s command that is not finite", NODE_NAME, base_topic(self.platform))
+        else:
+            rospy.logdebug("%s: %s angular.z %.4f: %s", NODE_NAME, base_topic(self.platform), message.angular.z,
+                           reply)
+
+    # -- update loop ---------------------------------------------------------------------------
+    def on_tick(self, _event) -> None:
+        try:
+            self._tick()
+        except rospy.ROSException:
+            if not rospy.core.is_shutdown_requested():  # a closed topic is expected only at shutdown
+                raise
+
+    def _tick(self) -> None:
+        for key, server in self.servers.items():
+            with server.lock:
+                with self._lock:
+                    outcome = self.model.controllers[key].update(self._now())
+                if outcome is not None:
+                    outcome.goal.set_succeeded(FollowJointTrajectoryResult(error_code=outcome.error_code))
+        with self._lock:
+            now = self._now()
+            joints = self.model.joint_state(now)
+            base = self.model.base_state(now)
+        stamp = rospy.Time.from_sec(now + self._epoch)
+        self._joint_state.header.stamp = stamp
+        self._joint_state.position = joints.positions
+        self._joint_state.velocity = joints.velocities
+        self.joint_state_publisher.publish(self._joint_state)
+        self._odometry.header.stamp = stamp
+        orientation = self._odometry.pose.pose.orientation
+        orientation.x, orientation.y, orientation.z, orientation.w = yaw_quaternion(base.heading)
+        self._odometry.twist.twist.angular.z = base.angular_velocity
+        self.odometry_publisher.publish(self._odometry)
+        if self._feedback_period is not None and now >= self._next_feedback:
+            self._next_feedback = now + self._feedback_period
+            self._publish_feedback(stamp)
+
+    def _publish_feedback(self, stamp) -> None:
+        for key, server in self.servers.items():
+            controller = self.model.controllers[key]
+            with server.lock:
+                with self._lock:
+                    goal_handle = controller.active_goal
+                    state = controller.state(self._now())
+                if goal_handle is None:
+                    continue
+                point = JointTrajectoryPoint(positions=state.positions.tolist(), velocities=state.velocities.tolist(),
+                                             accelerations=state.accelerations.tolist())
+                error = JointTrajectoryPoint(positions=[0.0] * len(point.positions),
+                                             velocities=[0.0] * len(point.positions))
+                feedback = FollowJointTrajectoryFeedback(joint_names=list(controller.joint_names), desired=point,
+                                                         actual=point, error=error)
+                feedback.header.stamp = stamp
+                goal_handle.publish_feedback(feedback)
+
+
+def main() -> int:
+    rospy.init_node(NODE_NAME)
+    platform = rospy.get_param("~platform", "robot")
+    initial_posture = rospy.get_param("~initial_posture", "rest")
+    if platform not in PLATFORMS or initial_posture not in POSTURES:
+        rospy.logfatal("%s: ~platform must be one of %s (got %r) and ~initial_posture one of %s (got %r)", NODE_NAME,
+                       ", ".join(PLATFORMS), platform, ", ".join(POSTURES), initial_posture)
+        return 2
+    SimulatedPepperNode(platform, initial_posture, bool(rospy.get_param("~moveto_keep_latest", False)),
+                        float(rospy.get_param("~feedback_rate", 10.0)))
+    rospy.spin()
+    return 0
