@@ -10,6 +10,8 @@ import rospy
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import ConfigurationError
 from cssr_system.animate_behaviour.contract import NODE_NAME
+from cssr_system.animate_behaviour.node.parameters import (config_file_parameter, load_node_configuration,
+                                                           parameter_overrides)
 from cssr_system.animate_behaviour.node.supervisor import AnimateBehaviour
 
 
@@ -33,14 +35,14 @@ def main(argv: Optional[List[str]] = None) -> int:
         return 1
     print_banner(node.version)
     node.log.write(contract.NODE_STARTED, version=node.version, node=rospy.get_name(),
-                   config_file=node.current_config_file(), log_file=node.log.path,
-                   parameters={key: str(value) for key, value in node.parameter_overrides().items()},
+                   config_file=config_file_parameter(), log_file=node.log.path,
+                   parameters={key: str(value) for key, value in parameter_overrides().items()},
                    arguments=argv[1:])
     try:
-        config_file, config, topics = node.load()
+        config_file, config, topics = load_node_configuration()
     except ConfigurationError as error:
         print("{}: invalid configuration: {}".format(NODE_NAME, error), file=sys.stderr, flush=True)
-        node.log.write(contract.CONFIGURATION_INVALID, file=node.current_config_file(),
+        node.log.write(contract.CONFIGURATION_INVALID, file=config_file_parameter(),
                        problems=list(error.problems))
         rospy.signal_shutdown("invalid configuration")
         return 1

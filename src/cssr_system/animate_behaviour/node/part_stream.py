@@ -1,78 +1,222 @@
-"""One controller's goal stream: its action client, its state (idle, animating, homing, waiting) and the
-goals it sent. Only the supervisor thread calls it.
+"""One controller's goal stream: a small state machine that owns its transitions.
+
+States (README: "Status"): ``idle`` (no goal of ours runs), ``animating`` (one goal after the other),
+``waiting`` (enabled, but waiting for the controller to appear or for a retry), ``homing`` (the
+return-to-centre goal after a disable). Every change goes through `transition_to`, which checks it
+against `TRANSITIONS` and logs ``old -> new`` at debug level.
+
+The supervisor thread is the only caller. What the stream needs from the outside is injected, so
+that unit tests drive it with a fake action client and a fake clock:
+
+- ``client``: an actionlib ``ActionClient`` (``send_goal(goal, transition_cb)`` returns a handle with
+  ``cancel()``, ``get_comm_state()``, ``get_goal_status()`` and ``get_result()``);
+- ``clock``: seconds, on the clock the controller executes goals on;
+- ``positions``: the measured positions of a list of joints, or None when unknown;
+- ``post``: puts an event on the supervisor's queue (actionlib calls back from its own threads);
+- at each enable, ``plan(now, positions, velocities, accelerations)``: the next animation goal of the part,
+  a `TimedTrajectory` starting from the given state (times relative to ``now``), from the motion style;
+- ``log``: the event log; ``debug`` and ``warn``: console lines.
 """
 import enum
-import time
 from collections import OrderedDict
-from typing import NamedTuple, Optional
+from typing import Callable, NamedTuple, Optional
 
-import actionlib
-from actionlib.action_client import CommState
 import numpy
 import rospy
-from control_msgs.msg import FollowJointTrajectoryAction, FollowJointTrajectoryGoal
+from actionlib.action_client import CommState
+from actionlib_msgs.msg import GoalStatus
+from control_msgs.msg import FollowJointTrajectoryGoal
 from trajectory_msgs.msg import JointTrajectoryPoint
 
 from cssr_system.animate_behaviour import contract
-from cssr_system.animate_behaviour.contract import PURPOSE_HOME, NODE_NAME
-from cssr_system.animate_behaviour.event_log import EventLog
+from cssr_system.animate_behaviour.contract import NODE_NAME, PURPOSE_ANIMATE, PURPOSE_HOME
 from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory, time_trajectory, to_points
 from cssr_system.animate_behaviour.motion.waypoints import PartMotion
 from cssr_system.animate_behaviour.node.events import GoalDone
-from cssr_system.animate_behaviour.node.joint_states import JointStateCache
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
 
-
+HOME_GESTURE_DURATION = 0.5  # s, the shortest return to the centre on disable (stretched as needed)
+HOME_MAX_DURATION = 2.0  # s; longer returns are reported (the speed cap wins over this bound)
+RETRY_DELAY = 2.0  # s before a part tries again after a rejected, aborted or foreign-preempted goal
 MAX_UNFINISHED_GOALS = 16  # handles kept for goals whose end has not been reported yet
-
-
 LOST_RESULT_GRACE = 5.0  # s after a goal's end before a missing result counts as lost
 
 
 class PartState(enum.Enum):
-    IDLE = "idle"  # no goal of ours is running
-    ANIMATING = "animating"  # random goals, one after the other
-    HOMING = "homing"  # the return-to-centre goal after a disable
-    WAITING = "waiting"  # animating, but waiting before the next goal (retry after a failure)
+    IDLE = "idle"
+    ANIMATING = "animating"
+    WAITING = "waiting"
+    HOMING = "homing"
+
+
+TRANSITIONS = {
+    PartState.IDLE: {PartState.ANIMATING, PartState.WAITING},
+    PartState.ANIMATING: {PartState.ANIMATING, PartState.WAITING, PartState.HOMING, PartState.IDLE},
+    PartState.WAITING: {PartState.ANIMATING, PartState.WAITING, PartState.HOMING, PartState.IDLE},
+    PartState.HOMING: {PartState.ANIMATING, PartState.WAITING, PartState.IDLE},
+}
+
+_GOAL_STATE_NAMES = {getattr(GoalStatus, name): name for name in (
+    "PENDING", "ACTIVE", "PREEMPTED", "SUCCEEDED", "ABORTED", "REJECTED", "PREEMPTING",
+    "RECALLING", "RECALLED", "LOST")}
+
+
+def goal_state_name(state: int) -> str:
+    return _GOAL_STATE_NAMES.get(state, str(state))
+
+
+# The next goal of a part: (now, positions, velocities, accelerations) -> a trajectory from that state.
+Planner = Callable[[float, numpy.ndarray, numpy.ndarray, numpy.ndarray], TimedTrajectory]
 
 
 class SentGoal(NamedTuple):
     number: int
     purpose: str  # PURPOSE_ANIMATE or PURPOSE_HOME
-    spline: JointTrajectorySpline  # what the controller executes, on the monotonic clock
+    spline: JointTrajectorySpline  # what the controller executes, on the stream's clock
     handle: object  # actionlib ClientGoalHandle
 
 
 class PartStream:
     """One controller's goal stream. Only the supervisor thread calls its methods."""
 
-    def __init__(self, part: str, action: str, post) -> None:
+    def __init__(self, part: str, action: str, client, clock: Callable[[], float],
+                 positions: Callable[[tuple], Optional[numpy.ndarray]], post: Callable[[object], None], log,
+                 debug: Callable[..., None] = rospy.logdebug, warn: Callable[..., None] = rospy.logwarn) -> None:
         self.part = part
         self.action = action
-        # The goal-handle client, not SimpleActionClient: its transitions carry their handle, so
-        # a result that arrives before send_goal returns is not lost.
-        self.client = actionlib.ActionClient(action, FollowJointTrajectoryAction)
+        self.client = client
         self.connected = False
         self.state = PartState.IDLE
         self.motion: Optional[PartMotion] = None
         self.retry_at: Optional[float] = None
+        self._clock = clock
+        self._positions = positions
         self._post = post
+        self._log = log
+        self._debug = debug
+        self._warn = warn
+        self._plan: Optional[Planner] = None
         self._goal_number = 0
         self._sent: Optional[SentGoal] = None
         # Goals that have not reported their end, replaced and cancelled ones too: holding their
         # handles keeps their transitions coming, so every goal's final state reaches the log.
         self._unfinished: "OrderedDict[int, SentGoal]" = OrderedDict()
 
-    # -- state estimates --------------------------------------------------------------------
-    def current_state(self, joint_states: JointStateCache, now: float):
+    # -- the state machine --------------------------------------------------------------------
+    def transition_to(self, new_state: PartState, why: str) -> None:
+        if new_state not in TRANSITIONS[self.state]:
+            raise RuntimeError("%s: no transition %s -> %s (%s)" % (self.part, self.state.value, new_state.value, why))
+        self._debug("%s: %s: %s -> %s (%s).", NODE_NAME, self.part, self.state.value, new_state.value, why)
+        self.state = new_state
+
+    @property
+    def active(self) -> bool:
+        return self.state != PartState.IDLE
+
+    def enable(self, motion: PartMotion, plan: Planner) -> None:
+        """Animate `motion` with goals from `plan`; a running goal is replaced smoothly (the controller splices)."""
+        self.motion = motion
+        self._plan = plan
+        self.retry_at = None
+        if self.connected:
+            self._send_animation("enabled")
+        else:
+            self.transition_to(PartState.WAITING, "enabled; controller not connected yet")
+
+    def disable(self, home: bool) -> None:
+        """Stop: one return-to-centre goal when `home` (and a goal of ours moves the part), else cancel."""
+        self.retry_at = None
+        if self.state == PartState.IDLE or self.state == PartState.HOMING:
+            return
+        if home and self.connected and self.sent_purpose == PURPOSE_ANIMATE:
+            timed = self._send(PURPOSE_HOME, self._plan_home)
+            if timed.times[-1] > HOME_MAX_DURATION:
+                self._warn("%s: %s returns to its centre in %.1f s (speed cap).", NODE_NAME, self.part,
+                           timed.times[-1])
+            self.transition_to(PartState.HOMING, "disabled; returning to the centre")
+            return
+        self.cancel()
+        self.transition_to(PartState.IDLE, "disabled")
+
+    def goal_done(self, event: GoalDone) -> None:
+        """A goal of ours reported its end (any goal: replaced and cancelled ones too)."""
+        sent = self._unfinished.pop(event.goal_number, None)
+        if sent is None:
+            return  # reported already
+        state_name = goal_state_name(event.state)
+        self._log.write(contract.GOAL_FINISHED, part=self.part, action=self.action, purpose=sent.purpose,
+                        goal=event.goal_number, state=state_name, error_code=event.error_code,
+                        error_string=event.error_string)
+        if not self.is_current(event.goal_number) or self.state == PartState.IDLE:
+            return  # a goal we replaced or cancelled: its end changes nothing
+        if event.state == GoalStatus.SUCCEEDED or sent.purpose == PURPOSE_HOME:
+            self._finish_goal("goal %d %s" % (event.goal_number, state_name))
+            return
+        self._warn("%s: %s goal ended %s (%s); trying again in %.0f s.", NODE_NAME, self.part, state_name,
+                   event.error_string or "no reason given", RETRY_DELAY)
+        self.retry_at = self._clock() + RETRY_DELAY
+        self.transition_to(PartState.WAITING, "goal %d %s; retry in %.0f s" % (event.goal_number, state_name,
+                                                                               RETRY_DELAY))
+
+    def controller_connected(self) -> None:
+        if self.connected:
+            return
+        self.connected = True
+        self._log.write(contract.CONTROLLER_CONNECTED, part=self.part, action=self.action)
+        rospy.loginfo("%s: controller %s connected.", NODE_NAME, self.action)
+        if self.state == PartState.WAITING and self.retry_at is None:
+            self._send_animation("controller connected")
+
+    def tick(self) -> None:
+        """Time-driven transitions: a lost result, a retry that is due."""
+        now = self._clock()
+        if self.overdue(now):
+            self._warn("%s: no result for the %s goal; sending the next one.", NODE_NAME, self.part)
+            self._log.write(contract.ERROR, where=self.part, message="goal result lost")
+            self._finish_goal("goal result lost")
+        if self.retry_at is not None and now >= self.retry_at:
+            self.retry_at = None
+            if self.state == PartState.WAITING:
+                self._send_animation("retry")
+
+    def next_deadline(self) -> Optional[float]:
+        """When `tick` next has something to do, on the stream's clock (None: nothing planned)."""
+        deadlines = [self.retry_at] if self.retry_at is not None else []
+        if self._sent is not None:
+            deadlines.append(self._sent.spline.end_time + LOST_RESULT_GRACE)
+        return min(deadlines) if deadlines else None
+
+    # -- goals --------------------------------------------------------------------------------
+    def _finish_goal(self, why: str) -> None:
+        """A goal of ours ended as planned: a part going home is done, an animating one goes on."""
+        purpose = self.sent_purpose
+        self._sent = None
+        if purpose == PURPOSE_HOME and self.state == PartState.HOMING:
+            self.transition_to(PartState.IDLE, why + "; at the centre")
+        elif self.state == PartState.ANIMATING:
+            self._send_animation(why)
+
+    def _send_animation(self, why: str) -> None:
+        self._send(PURPOSE_ANIMATE, self._plan)
+        self.transition_to(PartState.ANIMATING, why)
+
+    def _plan_home(self, now: float, positions, velocities, accelerations) -> TimedTrajectory:
+        """One goal to the centre; from a moving joint it brakes inside the band it was animated in."""
+        bands = self.motion.bounds if self.motion is not None else ()
+        bounds = ([b.lower for b in bands], [b.upper for b in bands]) if bands else None
+        return time_trajectory(numpy.array([PARTS[self.part].centre]), PARTS[self.part].joints, positions,
+                               velocities, HOME_GESTURE_DURATION, start_accelerations=accelerations,
+                               position_bounds=bounds)
+
+    def current_state(self, now: float):
         """Positions and velocities to start the next goal from: what the controller is executing
         for us (it splices new goals onto that), else the measured joints, else the centre."""
         joints = PARTS[self.part].joints
         if self._sent is not None and now <= self._sent.spline.end_time:
             positions, velocities, accelerations = self._sent.spline.sample(now)
             return numpy.asarray(positions), numpy.asarray(velocities), numpy.asarray(accelerations)
-        measured = joint_states.positions(joints)
+        measured = self._positions(joints)
         if measured is None and self._sent is not None:
             measured = numpy.asarray(self._sent.spline.sample(now)[0])
         if measured is None:
@@ -80,19 +224,14 @@ class PartStream:
         zeros = numpy.zeros(len(joints))
         return measured, zeros, zeros
 
-    # -- commands -----------------------------------------------------------------------------
-    def send(self, waypoints: numpy.ndarray, gesture_duration: float, purpose: str,
-             joint_states: JointStateCache, log: EventLog) -> TimedTrajectory:
-        now = time.monotonic()
+    def _send(self, purpose: str, plan: Planner) -> TimedTrajectory:
+        now = self._clock()
         joints = PARTS[self.part].joints
-        positions, velocities, accelerations = self.current_state(joint_states, now)
+        positions, velocities, accelerations = self.current_state(now)
+        timed = plan(now, positions, velocities, accelerations)
+        points = to_points(timed)
         bands = self.motion.bounds if self.motion is not None else ()
         lower, upper = [b.lower for b in bands], [b.upper for b in bands]
-        # A return home from a moving joint brakes inside the band it was animated in.
-        home_bounds = (lower, upper) if purpose == PURPOSE_HOME and bands else None
-        timed = time_trajectory(waypoints, joints, positions, velocities, gesture_duration,
-                                start_accelerations=accelerations, position_bounds=home_bounds)
-        points = to_points(timed)
         goal = FollowJointTrajectoryGoal()
         goal.trajectory.joint_names = list(joints)
         goal.trajectory.header.stamp = rospy.Time(0)  # start now
@@ -104,29 +243,27 @@ class PartStream:
         self._goal_number += 1
         number = self._goal_number
 
-        def transition(handle, part=self.part):
+        def transition(handle, part=self.part, action=self.action):
             if handle.get_comm_state() != CommState.DONE:
                 return
             result = handle.get_result()
-            self._post(GoalDone(part, self.action, number, handle.get_goal_status(),
+            self._post(GoalDone(part, action, number, handle.get_goal_status(),
                                 None if result is None else result.error_code,
                                 "" if result is None else result.error_string))
 
         handle = self.client.send_goal(goal, transition)
-        self._sent = SentGoal(number, purpose,
-                              JointTrajectorySpline(positions, velocities, accelerations, points,
-                                                    start_time=now), handle)
+        self._sent = SentGoal(number, purpose, JointTrajectorySpline(positions, velocities, accelerations, points,
+                                                                     start_time=now), handle)
         self._unfinished[number] = self._sent
         while len(self._unfinished) > MAX_UNFINISHED_GOALS:  # a controller that never answers
             self._unfinished.popitem(last=False)
-        rospy.logdebug("%s: %s goal %d (%s) sent to %s: %d points over %.1f s.", NODE_NAME,
-                       self.part, number, purpose, self.action, len(points), timed.times[-1])
-        log.write(contract.GOAL_SENT, part=self.part, label=PARTS[self.part].label,
-                  action=self.action, purpose=purpose, goal=number, joints=joints,
-                  centre=PARTS[self.part].centre,
-                  lower=lower, upper=upper,
-                  moving=self.motion.moving if self.motion is not None else (),
-                  times=timed.times, positions=timed.positions)
+        self._debug("%s: %s goal %d (%s) sent to %s: %d points over %.1f s.", NODE_NAME,
+                    self.part, number, purpose, self.action, len(points), timed.times[-1])
+        self._log.write(contract.GOAL_SENT, part=self.part, label=PARTS[self.part].label,
+                        action=self.action, purpose=purpose, goal=number, joints=joints,
+                        centre=PARTS[self.part].centre, lower=lower, upper=upper,
+                        moving=self.motion.moving if self.motion is not None else (),
+                        times=timed.times, positions=timed.positions)
         return timed
 
     def cancel(self) -> None:
@@ -140,13 +277,6 @@ class PartStream:
 
     def is_current(self, goal_number: int) -> bool:
         return self._sent is not None and self._sent.number == goal_number
-
-    def finished(self, goal_number: int) -> Optional[SentGoal]:
-        """The goal that reported its end, once; None for one already reported."""
-        return self._unfinished.pop(goal_number, None)
-
-    def forget_goal(self) -> None:
-        self._sent = None
 
     @property
     def sent_purpose(self) -> Optional[str]:

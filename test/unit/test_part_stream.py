@@ -1,0 +1,253 @@
+"""Unit tests of the part state machine (node/part_stream.py) with a fake action client and clock: no ROS master."""
+import numpy
+import pytest
+from actionlib.action_client import CommState
+from actionlib_msgs.msg import GoalStatus
+from conftest import default_configuration
+
+from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.motion.trajectory_timing import time_trajectory
+from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng, random_waypoints
+from cssr_system.animate_behaviour.node.part_stream import (LOST_RESULT_GRACE, RETRY_DELAY, TRANSITIONS, PartState,
+                                                            PartStream)
+from cssr_system.pepper.joint_table import PARTS
+
+ACTION = "/pepper_dcm/RightArm_controller/follow_joint_trajectory"
+
+
+class FakeHandle:
+    def __init__(self, goal, callback):
+        self.goal = goal
+        self.callback = callback
+        self.cancelled = False
+        self.status = GoalStatus.ACTIVE
+
+    def cancel(self):
+        self.cancelled = True
+
+    def get_comm_state(self):
+        return CommState.DONE
+
+    def get_goal_status(self):
+        return self.status
+
+    def get_result(self):
+        return None
+
+    def finish(self, status):
+        """What actionlib does when the server reports the goal's end."""
+        self.status = status
+        self.callback(self)
+
+
+class FakeClient:
+    def __init__(self):
+        self.handles = []
+
+    def send_goal(self, goal, transition_cb):
+        self.handles.append(FakeHandle(goal, transition_cb))
+        return self.handles[-1]
+
+
+class FakeLog:
+    def __init__(self):
+        self.entries = []
+
+    def write(self, event, **fields):
+        self.entries.append((event, fields))
+
+    def events(self, name):
+        return [fields for event, fields in self.entries if event == name]
+
+
+class Rig:
+    """A stream with every outside part faked; `now` is the clock."""
+
+    def __init__(self, connected=True, part="RArm", measured=None):
+        self.now = 100.0
+        self.client = FakeClient()
+        self.posted = []
+        self.log = FakeLog()
+        self.debug_lines = []
+        self.warnings = []
+        self.measured = measured
+        self.stream = PartStream(part, ACTION, self.client, lambda: self.now, lambda joints: self.measured,
+                                 self.posted.append, self.log,
+                                 debug=lambda text, *args: self.debug_lines.append(text % args),
+                                 warn=lambda text, *args: self.warnings.append(text % args))
+        if connected:
+            self.stream.controller_connected()
+        config = default_configuration(random_seed=7)
+        self.motion = {m.part: m for m in animated_parts(config, tuple(PARTS))}[part]
+        rng = make_rng(7)
+        joints = PARTS[part].joints
+
+        def plan(now, positions, velocities, accelerations):
+            return time_trajectory(random_waypoints(self.motion, config._replace(num_points=3), rng), joints,
+                                   positions, velocities, 1.0, start_accelerations=accelerations)
+        self.plan = plan
+
+    def enable(self):
+        self.stream.enable(self.motion, self.plan)
+
+    def deliver(self):
+        """The supervisor's loop: events posted by actionlib's callbacks reach the stream."""
+        while self.posted:
+            self.stream.goal_done(self.posted.pop(0))
+
+    def finish_last(self, status):
+        self.client.handles[-1].finish(status)
+        self.deliver()
+
+    def goal_end_time(self):
+        handle = self.client.handles[-1]
+        return self.now + handle.goal.trajectory.points[-1].time_from_start.to_sec()
+
+    def transitions(self):
+        return [line.split(": ", 2)[2] for line in self.debug_lines if " -> " in line]
+
+
+def test_transition_table_allows_only_listed_changes():
+    rig = Rig()
+    with pytest.raises(RuntimeError, match="idle -> homing"):
+        rig.stream.transition_to(PartState.HOMING, "not allowed")
+    assert PartState.HOMING not in TRANSITIONS[PartState.IDLE]
+
+
+def test_enable_sends_a_goal_and_logs_the_transition():
+    rig = Rig()
+    rig.enable()
+    assert rig.stream.state == PartState.ANIMATING
+    assert len(rig.client.handles) == 1
+    goal = rig.client.handles[0].goal
+    assert list(goal.trajectory.joint_names) == list(PARTS["RArm"].joints)
+    assert goal.trajectory.points[0].time_from_start.to_sec() > 0
+    assert rig.transitions() == ["idle -> animating (enabled)."]
+    assert rig.log.events(contract.GOAL_SENT)[0]["purpose"] == contract.PURPOSE_ANIMATE
+
+
+def test_success_sends_the_next_goal_at_once():
+    rig = Rig()
+    rig.enable()
+    rig.finish_last(GoalStatus.SUCCEEDED)
+    assert len(rig.client.handles) == 2
+    assert rig.stream.state == PartState.ANIMATING
+    assert [entry["state"] for entry in rig.log.events(contract.GOAL_FINISHED)] == ["SUCCEEDED"]
+
+
+@pytest.mark.parametrize("status", [GoalStatus.REJECTED, GoalStatus.ABORTED, GoalStatus.PREEMPTED])
+def test_retry_after_a_failed_goal(status):
+    rig = Rig()
+    rig.enable()
+    rig.finish_last(status)
+    assert rig.stream.state == PartState.WAITING
+    assert len(rig.client.handles) == 1
+    assert rig.stream.next_deadline() == pytest.approx(rig.now + RETRY_DELAY)
+    rig.now += RETRY_DELAY - 0.01
+    rig.stream.tick()
+    assert len(rig.client.handles) == 1, "no goal before the retry is due"
+    rig.now += 0.02
+    rig.stream.tick()
+    assert len(rig.client.handles) == 2
+    assert rig.stream.state == PartState.ANIMATING
+    assert "animating -> waiting" in rig.transitions()[1] and "waiting -> animating (retry)" in rig.transitions()[2]
+    assert len(rig.warnings) == 1
+
+
+def test_lost_result_counts_as_the_end_of_the_goal():
+    rig = Rig()
+    rig.enable()
+    end = rig.goal_end_time()
+    rig.now = end + LOST_RESULT_GRACE - 0.1
+    rig.stream.tick()
+    assert len(rig.client.handles) == 1
+    rig.now = end + LOST_RESULT_GRACE + 0.1
+    rig.stream.tick()
+    assert len(rig.client.handles) == 2, "a lost result does not stop the part"
+    assert rig.log.events(contract.ERROR)[0]["message"] == "goal result lost"
+    # The lost goal's late result changes nothing.
+    rig.client.handles[0].finish(GoalStatus.SUCCEEDED)
+    rig.deliver()
+    assert len(rig.client.handles) == 2
+
+
+def test_reconfiguration_while_animating_replaces_the_goal_from_where_the_controller_is():
+    rig = Rig()
+    rig.enable()
+    first = rig.client.handles[0]
+    rig.now += 0.7
+    expected, _, _ = rig.stream.current_state(rig.now)
+    rig.enable()
+    assert len(rig.client.handles) == 2
+    assert not first.cancelled, "the new goal is spliced onto the running one, not cancelled"
+    start = rig.log.events(contract.GOAL_SENT)[1]
+    spline_start = rig.stream.current_state(rig.now)[0]
+    numpy.testing.assert_allclose(spline_start, expected, atol=1e-12)
+    assert start["goal"] == 2
+    # The replaced goal's end (PREEMPTED) is logged and changes nothing.
+    first.finish(GoalStatus.PREEMPTED)
+    rig.deliver()
+    assert rig.stream.state == PartState.ANIMATING
+    assert len(rig.client.handles) == 2
+
+
+def test_disable_homes_then_idles_and_re_enable_animates_again():
+    rig = Rig()
+    rig.enable()
+    rig.now += 0.5
+    rig.stream.disable(home=True)
+    assert rig.stream.state == PartState.HOMING
+    home = rig.client.handles[-1].goal.trajectory.points[-1]
+    numpy.testing.assert_allclose(home.positions, PARTS["RArm"].centre)
+    assert home.time_from_start.to_sec() <= 2.0
+    rig.stream.disable(home=True)
+    assert len(rig.client.handles) == 2, "a second disable while homing sends nothing"
+    rig.enable()  # re-enabled while homing: animates from where the home goal has the joints
+    assert rig.stream.state == PartState.ANIMATING and len(rig.client.handles) == 3
+    rig.client.handles[1].finish(GoalStatus.PREEMPTED)  # the home goal, replaced
+    rig.deliver()
+    assert rig.stream.state == PartState.ANIMATING
+    rig.stream.disable(home=True)
+    rig.finish_last(GoalStatus.SUCCEEDED)
+    assert rig.stream.state == PartState.IDLE
+    assert rig.transitions()[-1].startswith("homing -> idle")
+
+
+def test_disable_without_home_cancels():
+    rig = Rig()
+    rig.enable()
+    rig.stream.disable(home=False)
+    assert rig.client.handles[-1].cancelled
+    assert rig.stream.state == PartState.IDLE
+    assert len(rig.client.handles) == 1
+
+
+def test_controller_that_appears_late():
+    rig = Rig(connected=False)
+    rig.enable()
+    assert rig.stream.state == PartState.WAITING
+    assert rig.client.handles == []
+    rig.now += 30.0
+    rig.stream.tick()
+    assert rig.client.handles == []
+    rig.stream.controller_connected()
+    assert rig.stream.state == PartState.ANIMATING
+    assert len(rig.client.handles) == 1
+    assert rig.log.events(contract.CONTROLLER_CONNECTED) == [{"part": "RArm", "action": ACTION}]
+
+
+def test_disable_while_waiting_for_the_controller_sends_nothing():
+    rig = Rig(connected=False)
+    rig.enable()
+    rig.stream.disable(home=True)
+    assert rig.stream.state == PartState.IDLE
+    rig.stream.controller_connected()
+    assert rig.client.handles == []
+
+
+def test_first_goal_starts_from_the_measured_joints():
+    measured = numpy.array(PARTS["RArm"].centre) + 0.3
+    rig = Rig(measured=measured)
+    rig.enable()
+    # The first segment of the goal starts where the joints are: its spline at time 0 is the measurement.
+    numpy.testing.assert_allclose(rig.stream.current_state(rig.now)[0], measured, atol=1e-12)
