@@ -110,7 +110,7 @@ def test_table_matches_the_configuration_fields():
 def test_configuration_items_are_written_as_in_the_file():
     items = configuration_items(SHIPPED_DEFAULTS)
     expected = OrderedDict(SHIPPED_VALUES)
-    expected.update(randomSeed="none", homeOnDisable="true", headingBound="0.3")
+    expected.update(randomSeed="none", homeOnDisable="true", headingBound="0.3", yieldQuietTime="1.0")
     assert items == expected and list(items) == list(expected)
     items = configuration_items(SHIPPED_DEFAULTS._replace(behaviour=frozenset({"rotation", "body"}), random_seed=7))
     assert items["behaviour"] == "body,rotation" and items["randomSeed"] == "7"
@@ -121,9 +121,10 @@ def test_optional_keys_take_their_defaults():
 
 
 def test_optional_keys_can_be_set():
-    text = config_text(extra="randomSeed 42\nhomeOnDisable FALSE\nheadingBound 0.5\n")
+    text = config_text(extra="randomSeed 42\nhomeOnDisable FALSE\nheadingBound 0.5\nyieldQuietTime 2.5\n")
     config = parse(text)
-    assert (config.random_seed, config.home_on_disable, config.heading_bound) == (42, False, 0.5)
+    assert (config.random_seed, config.home_on_disable, config.heading_bound, config.yield_quiet_time) == \
+        (42, False, 0.5, 2.5)
     assert parse(config_text(extra="randomSeed NONE\n")).random_seed is None
 
 
@@ -297,7 +298,7 @@ def test_range_expectations_are_stated():
 @pytest.mark.parametrize("line, expected", [
     ("headingBound 0.6", "[0, 0.5]"), ("headingBound -0.1", "[0, 0.5]"), ("randomSeed -1", "none or an integer"),
     ("randomSeed 4294967296", "4294967295"), ("randomSeed 1.5", "none or an integer"),
-    ("homeOnDisable yes", "true or false")])
+    ("homeOnDisable yes", "true or false"), ("yieldQuietTime -1", "[0, 10]"), ("yieldQuietTime 11", "[0, 10]")])
 def test_optional_keys_are_checked(line, expected):
     problem = only_problem(config_text(extra=line + "\n"))
     key, value = line.split(" ")
@@ -410,6 +411,7 @@ def test_every_problem_is_reported_in_one_error():
     ("randomSeed", None, "random_seed", None),
     ("randomSeed", "none", "random_seed", None),
     ("headingBound", 0.1, "heading_bound", 0.1),
+    ("yieldQuietTime", 0, "yield_quiet_time", 0.0),
     ("robotTopics", os.path.join(DATA_DIR, "pepperTopics.dat"), "robot_topics",
      os.path.join(DATA_DIR, "pepperTopics.dat"))])
 def test_overrides_of_every_type(key, value, attribute, expected):

@@ -8,6 +8,7 @@ from conftest import default_configuration
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.motion.trajectory_timing import time_trajectory
 from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng, random_waypoints
+from cssr_system.animate_behaviour.node.foreign_motion import RESULT_GRACE
 from cssr_system.animate_behaviour.node.part_stream import (LOST_RESULT_GRACE, RETRY_DELAY, TRANSITIONS, PartState,
                                                             PartStream)
 from cssr_system.pepper.joint_table import PARTS
@@ -251,3 +252,118 @@ def test_first_goal_starts_from_the_measured_joints():
     rig.enable()
     # The first segment of the goal starts where the joints are: its spline at time 0 is the measurement.
     numpy.testing.assert_allclose(rig.stream.current_state(rig.now)[0], measured, atol=1e-12)
+
+
+# -- sharing the robot ------------------------------------------------------------------------------
+
+def test_another_nodes_goal_makes_the_part_yield_until_its_end_and_the_quiet_time():
+    rig = Rig()
+    rig.enable()
+    ours = rig.client.handles[0]
+    rig.stream.foreign_motion("gesture-1", "/gestureExecution", "goal", last_point_at=rig.now + 4.0)
+    assert rig.stream.state == PartState.YIELDING and rig.stream.yielding_to == "/gestureExecution"
+    assert not ours.cancelled, "nothing is sent to the controller, not even a cancel"
+    ours.finish(GoalStatus.PREEMPTED)  # the controller replaced our goal with the gesture
+    rig.deliver()
+    assert rig.stream.state == PartState.YIELDING and len(rig.client.handles) == 1
+    rig.now += 3.0
+    rig.stream.tick()
+    assert len(rig.client.handles) == 1
+    rig.now += 1.0  # the gesture's result arrives at its last point
+    rig.stream.foreign_result("gesture-1")
+    rig.stream.tick()
+    assert rig.stream.state == PartState.YIELDING, "the quiet time first"
+    assert rig.stream.next_deadline() == pytest.approx(rig.now + 1.0)
+    rig.now += 0.99
+    rig.stream.tick()
+    assert len(rig.client.handles) == 1
+    rig.now += 0.02
+    rig.stream.tick()
+    assert rig.stream.state == PartState.ANIMATING and len(rig.client.handles) == 2
+    resumed = rig.log.events(contract.PART_RESUMED)[0]
+    assert resumed["caller"] == "/gestureExecution" and resumed["seconds"] == pytest.approx(5.01)
+
+
+def test_a_chain_of_goals_keeps_the_part_yielding():
+    rig = Rig()
+    rig.enable()
+    for number in range(3):
+        rig.stream.foreign_motion("g%d" % number, "/gestureExecution", "goal", last_point_at=rig.now + 1.0)
+        rig.now += 1.0
+        rig.stream.foreign_result("g%d" % number)
+        rig.now += 0.05  # the next goal of the chain follows its result at once
+        rig.stream.tick()
+        assert rig.stream.state == PartState.YIELDING
+    rig.now += 1.0
+    rig.stream.tick()
+    assert rig.stream.state == PartState.ANIMATING
+
+
+def test_without_a_result_the_last_point_and_a_grace_end_the_other_goal():
+    rig = Rig()
+    rig.enable()
+    rig.stream.foreign_motion("g", "/teleop", "goal", last_point_at=rig.now + 2.0)
+    rig.now += 2.0 + RESULT_GRACE + 0.99
+    rig.stream.tick()
+    assert rig.stream.state == PartState.YIELDING
+    rig.now += 0.02
+    rig.stream.tick()
+    assert rig.stream.state == PartState.ANIMATING
+
+
+def test_a_command_trajectory_yields_until_its_last_point():
+    rig = Rig()
+    rig.enable()
+    rig.stream.foreign_motion("command-1", "/teleop", "command", last_point_at=rig.now + 2.0)
+    rig.now += 2.0 + 0.99
+    rig.stream.tick()
+    assert rig.stream.state == PartState.YIELDING
+    rig.now += 0.02
+    rig.stream.tick()
+    assert rig.stream.state == PartState.ANIMATING
+
+
+def test_resume_starts_from_the_measured_joints_not_from_our_old_plan():
+    measured = numpy.array(PARTS["RArm"].centre) + 0.4  # where the gesture left the arm
+    rig = Rig()
+    rig.enable()
+    rig.stream.foreign_motion("g", "/gestureExecution", "goal", last_point_at=rig.now + 1.0)
+    rig.now += 1.0
+    rig.stream.foreign_result("g")
+    rig.measured = measured
+    rig.now += 1.01
+    rig.stream.tick()
+    positions, velocities, _ = rig.stream.current_state(rig.now)
+    numpy.testing.assert_allclose(positions, measured, atol=1e-12)
+    numpy.testing.assert_allclose(velocities, 0.0, atol=1e-12)
+
+
+def test_disable_while_yielding_sends_nothing():
+    rig = Rig()
+    rig.enable()
+    rig.stream.foreign_motion("g", "/gestureExecution", "goal", last_point_at=rig.now + 3.0)
+    rig.stream.disable(home=True)
+    assert rig.stream.state == PartState.IDLE and len(rig.client.handles) == 1
+    assert not rig.client.handles[0].cancelled
+    rig.now += 10.0
+    rig.stream.tick()
+    assert len(rig.client.handles) == 1
+
+
+def test_enable_while_another_node_moves_the_part_waits_for_it():
+    rig = Rig()
+    rig.stream.foreign_motion("g", "/gestureExecution", "goal", last_point_at=rig.now + 3.0)
+    rig.enable()
+    assert rig.stream.state == PartState.YIELDING and rig.client.handles == []
+    rig.now += 3.0 + RESULT_GRACE + 1.01
+    rig.stream.tick()
+    assert rig.stream.state == PartState.ANIMATING
+
+
+def test_another_nodes_motion_replaces_our_return_home():
+    rig = Rig()
+    rig.enable()
+    rig.stream.disable(home=True)
+    assert rig.stream.state == PartState.HOMING
+    rig.stream.foreign_motion("g", "/gestureExecution", "goal", last_point_at=rig.now + 3.0)
+    assert rig.stream.state == PartState.IDLE and len(rig.client.handles) == 2

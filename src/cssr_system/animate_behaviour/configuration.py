@@ -83,6 +83,7 @@ class Configuration(NamedTuple):
     random_seed: Optional[int] = None
     home_on_disable: bool = True
     heading_bound: float = 0.3
+    yield_quiet_time: float = 1.0
 
 
 class ConfigurationError(ValueError):
@@ -324,6 +325,9 @@ KEYS: Dict[str, KeySpec] = OrderedDict((spec.name, spec) for spec in (
     _key("headingBound", "heading_bound", number_in(0.0, 0.5), _format_number,
          "a number of radians in [0, 0.5]",
          "largest turn of the base away from its heading when animation was enabled", default=0.3),
+    _key("yieldQuietTime", "yield_quiet_time", number_in(0.0, 10.0), _format_number,
+         "a number of seconds in [0, 10]",
+         "calm time after another node's motion of a part before the part moves again", default=1.0),
 ))
 
 

@@ -6,6 +6,9 @@ from typing import Optional
 NODE_NAME = "animateBehaviour"
 SERVICE_NAME = NODE_NAME + "/setActivation"  # relative: a namespace applies
 SERVICE_PATH = "/" + SERVICE_NAME  # where it is when the node runs in the root namespace
+SET_ENABLED_SERVICE_NAME = NODE_NAME + "/set_enabled"  # std_srvs/SetBool, the ROS NAOqi wrappers' convention
+STATUS_TOPIC = NODE_NAME + "/status"  # cssr_system/AnimateBehaviourStatus, latched
+DIAGNOSTICS_TOPIC = "/diagnostics"  # diagnostic_msgs/DiagnosticArray
 
 ENABLED = "enabled"
 DISABLED = "disabled"
@@ -39,8 +42,10 @@ CONTROLLER_WAITING = "controller_waiting"  # part, action, seconds
 BASE_COMMAND = "base_command"  # topic, kind, purpose, angle, target_heading, period, velocities
 ERROR = "error"  # where, message
 NODE_STOPPED = "node_stopped"  # reason
+PART_YIELDED = "part_yielded"  # part, controller, caller, kind (goal, command or twist)
+PART_RESUMED = "part_resumed"  # part, controller, caller, seconds (how long it yielded)
 LOG_EVENTS = (NODE_STARTED, CONFIGURATION_LOADED, CONFIGURATION_INVALID, ACTIVATION_REQUEST, BEHAVIOUR_STARTED,
               BEHAVIOUR_ENDED, GOAL_SENT, GOAL_FINISHED, CONTROLLER_CONNECTED, CONTROLLER_WAITING, BASE_COMMAND,
-              ERROR, NODE_STOPPED)
+              PART_YIELDED, PART_RESUMED, ERROR, NODE_STOPPED)
 JOINT_STATES_TOPIC = "joint_states"  # relative: resolves to /joint_states
 NODE_PARAMETERS = ("configFile", "logFile")  # private parameters that are not configuration keys

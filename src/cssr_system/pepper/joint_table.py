@@ -3,6 +3,7 @@
 Numbers come from the Pepper URDF (limits, maximum velocities) and from the reference node's rest
 posture (centres).  Everything else in the package reads them from here.
 """
+import math
 from collections import OrderedDict
 from typing import Dict, NamedTuple, Tuple
 
@@ -83,6 +84,17 @@ CONTROLLER_NAMES: Dict[str, str] = {
     "Leg": "Pelvis_controller",
     "Head": "Head_controller",
 }
+ACTION_NAME = "follow_joint_trajectory"  # a controller's FollowJointTrajectory action, inside its namespace
+COMMAND_TOPIC_NAME = "command"  # its trajectory_msgs/JointTrajectory topic, obeyed like a goal without a result
+
+
+def command_topic(action_namespace: str) -> str:
+    """The command topic of the controller that serves `action_namespace` (``<controller>/command``)."""
+    controller = action_namespace.rstrip("/")
+    if controller.endswith("/" + ACTION_NAME):
+        controller = controller[:-len(ACTION_NAME) - 1]
+    return controller + "/" + COMMAND_TOPIC_NAME
+
 
 # Joint speeds are capped at this fraction of each joint's maximum (the robot's driver moves at 20 %).
 SPEED_FRACTION = 0.2
@@ -91,6 +103,7 @@ SPEED_FRACTION = 0.2
 BASE_MAX_ANGULAR_VELOCITY = 2.0  # rad/s; rotMaximumRange is a fraction of this
 BASE_MOVETO_ANGULAR_VELOCITY = 1.0  # rad/s, the speed at which moveTo turns by default
 BASE_MOVETO_SETTLE_TIME = 1.0  # s the robot's driver sleeps after each moveTo
+BASE_MOVETO_LINEAR_VELOCITY = 0.35  # m/s, NAOqi's default walking speed, for the time a moveTo takes
 # Gazebo's model-velocity plugin on /pepper/cmd_vel.
 BASE_VELOCITY_COMMAND_TIMEOUT = 0.5  # s without a message before the plugin zeroes the velocity
 BASE_MAX_ANGULAR_ACCELERATION = 2.4  # rad/s^2 the plugin allows
@@ -144,3 +157,15 @@ def wheels_command_kind(topic: str) -> str:
         raise ValueError("wheels topic name is empty")
     last_segment = name.rsplit("/", 1)[-1].lstrip("~")
     return RELATIVE if last_segment == RELATIVE_TOPIC_SEGMENT else VELOCITY
+
+
+def base_busy_time(kind: str, x: float, y: float, angular_z: float) -> float:
+    """How long the base is busy with one Twist on a Wheels topic of `kind` (s): on cmd_moveto the
+    driver's moveTo (the turn at its default speed, a move at BASE_MOVETO_LINEAR_VELOCITY, then its
+    settle time; a zero Twist is a no-op); on a velocity topic until the plugin's time-out."""
+    if kind != RELATIVE:
+        return BASE_VELOCITY_COMMAND_TIMEOUT
+    if not (x or y or angular_z):
+        return 0.0
+    motion = max(abs(angular_z) / BASE_MOVETO_ANGULAR_VELOCITY, math.hypot(x, y) / BASE_MOVETO_LINEAR_VELOCITY)
+    return motion + BASE_MOVETO_SETTLE_TIME

@@ -30,7 +30,7 @@ from typing import Any, Dict, List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy
 
-from cssr_system.pepper.joint_table import (RELATIVE, wheels_command_kind, BASE_MAX_ANGULAR_ACCELERATION,
+from cssr_system.pepper.joint_table import (ACTION_NAME, RELATIVE, wheels_command_kind, BASE_MAX_ANGULAR_ACCELERATION,
                                             BASE_MAX_ANGULAR_VELOCITY, BASE_MOVETO_ANGULAR_VELOCITY,
                                             BASE_MOVETO_SETTLE_TIME, BASE_VELOCITY_COMMAND_TIMEOUT,
                                             CONTROLLER_NAMES, HEAD_PART, JOINTS, PARTS, WHEEL_JOINTS, Part)
@@ -78,7 +78,7 @@ def part(key: str) -> Part:
 
 def action_namespace(platform: Platform, key: str) -> str:
     """The FollowJointTrajectory action namespace of a controller on a platform."""
-    return "{}/{}/follow_joint_trajectory".format(platform.namespace, CONTROLLER_NAMES[key])
+    return "{}/{}/{}".format(platform.namespace, CONTROLLER_NAMES[key], ACTION_NAME)
 
 
 def base_topic(platform: Platform) -> str:
@@ -277,6 +277,12 @@ class SimulatedController:
         self._replace_from(start_time, spline, now)
         self.limit_violation_count += len(violations)
         return self._activate(goal, spline.end_time, tuple(violations))
+
+    def command(self, joint_names: Sequence[str], points: Sequence[GoalPoint], now: float,
+                stamp: Optional[float] = None) -> Acceptance:
+        """A trajectory on the controller's command topic: obeyed like a goal, but it has no goal handle, no
+        result and no status. It preempts the active goal (`Acceptance.preempted_goal`) and is spliced the same way."""
+        return self.submit(None, joint_names, points, now, stamp)
 
     def cancel(self, goal: Any, now: float) -> bool:
         """Stop at once if `goal` is the active goal (True); anything else changes nothing (False)."""

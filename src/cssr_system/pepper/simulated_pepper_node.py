@@ -11,6 +11,7 @@ Parameters (private):
   ~feedback_rate       Hz of action feedback for active goals (default 10; 0: none)
 Serves:
   <ns>/<Name>_controller/follow_joint_trajectory   control_msgs/FollowJointTrajectory (ActionServer)
+  <ns>/<Name>_controller/command                   trajectory_msgs/JointTrajectory (subscribed, obeyed like a goal)
   <ns>/cmd_moveto or <ns>/cmd_vel                  geometry_msgs/Twist (subscribed)
 Publishes:
   /joint_states        sensor_msgs/JointState, 50 Hz, every joint and the wheels
@@ -28,10 +29,11 @@ from geometry_msgs.msg import Twist
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 from std_msgs.msg import UInt32
-from trajectory_msgs.msg import JointTrajectoryPoint
+from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from cssr_system.pepper.simulated_pepper import (PLATFORMS, POSTURES, GoalPoint, SimulatedPepper,
                                                  action_namespace, base_topic, odometry_topic, yaw_quaternion)
+from cssr_system.pepper.joint_table import command_topic
 
 NODE_NAME = "simulatedPepper"
 UPDATE_RATE = 50.0  # Hz: controllers, /joint_states and odometry
@@ -64,6 +66,11 @@ class SimulatedPepperNode:
                 auto_start=False)
         for server in self.servers.values():
             server.start()
+        # Each controller also obeys trajectories on its command topic, as joint_trajectory_controller does.
+        self.command_subscribers = [
+            rospy.Subscriber(command_topic(action_namespace(self.platform, key)), JointTrajectory,
+                             functools.partial(self.on_command, key), queue_size=10)
+            for key in self.model.controllers]
         self.base_subscriber = rospy.Subscriber(base_topic(self.platform), Twist, self.on_twist, queue_size=10)
         self._joint_state = JointState(name=list(self.model.joint_names))
         self._odometry = Odometry()
@@ -102,6 +109,22 @@ class SimulatedPepperNode:
                        ", preempting the active one" if acceptance.preempted_goal is not None else "")
         if acceptance.limit_violations:
             self._report_violations(controller.name, acceptance.limit_violations)
+
+    def on_command(self, key: str, trajectory: JointTrajectory) -> None:
+        controller = self.model.controllers[key]
+        points = [GoalPoint(point.time_from_start.to_sec(), point.positions, point.velocities, point.accelerations)
+                  for point in trajectory.points]
+        stamp = None if trajectory.header.stamp.is_zero() else trajectory.header.stamp.to_sec() - self._epoch
+        with self._lock:
+            acceptance = controller.command(trajectory.joint_names, points, self._now(), stamp)
+        if not acceptance.accepted:
+            rospy.logwarn("%s: %s command rejected: %s", NODE_NAME, controller.name, acceptance.error_string)
+            return
+        if acceptance.preempted_goal is not None:
+            acceptance.preempted_goal.set_canceled(
+                FollowJointTrajectoryResult(error_string="preempted by a command trajectory"),
+                "preempted by a command trajectory")
+        rospy.logdebug("%s: %s follows a command trajectory of %d point(s)", NODE_NAME, controller.name, len(points))
 
     def on_cancel(self, key: str, goal_handle) -> None:
         controller = self.model.controllers[key]

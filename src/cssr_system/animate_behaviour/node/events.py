@@ -35,3 +35,31 @@ class ControllerConnected(NamedTuple):
 class Shutdown(NamedTuple):
     reason: str
     done: threading.Event
+
+
+class ForeignGoal(NamedTuple):
+    """Another node's goal on a controller's action (seen on <action>/goal)."""
+    action: str
+    goal_id: str
+    caller: str
+    last_point_at: float  # when its last point passes, on the controllers' clock
+
+
+class ForeignResult(NamedTuple):
+    """A goal's result on a controller's action (anyone's)."""
+    action: str
+    goal_id: str
+
+
+class ForeignCommand(NamedTuple):
+    """Another node's trajectory on a controller's command topic."""
+    action: str
+    caller: str
+    last_point_at: float
+
+
+class ForeignTwist(NamedTuple):
+    """Another node's Twist on the Wheels topic."""
+    topic: str
+    caller: str
+    twist: object  # geometry_msgs/Twist

@@ -1,7 +1,8 @@
 """One controller's goal stream: a small state machine that owns its transitions.
 
 States (README: "Status"): ``idle`` (no goal of ours runs), ``animating`` (one goal after the other),
-``waiting`` (enabled, but waiting for the controller to appear or for a retry), ``homing`` (the
+``yielding`` (another node moves the part: we send nothing until it is done and calm, README: "Sharing the
+robot"), ``waiting`` (enabled, but waiting for the controller to appear or for a retry), ``homing`` (the
 return-to-centre goal after a disable). Every change goes through `transition_to`, which checks it
 against `TRANSITIONS` and logs ``old -> new`` at debug level.
 
@@ -33,6 +34,7 @@ from cssr_system.animate_behaviour.contract import NODE_NAME, PURPOSE_ANIMATE, P
 from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory, time_trajectory, to_points
 from cssr_system.animate_behaviour.motion.waypoints import PartMotion
 from cssr_system.animate_behaviour.node.events import GoalDone
+from cssr_system.animate_behaviour.node.foreign_motion import DEFAULT_QUIET_TIME, ForeignMotionTracker
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
 
@@ -46,15 +48,19 @@ LOST_RESULT_GRACE = 5.0  # s after a goal's end before a missing result counts a
 class PartState(enum.Enum):
     IDLE = "idle"
     ANIMATING = "animating"
+    YIELDING = "yielding"
     WAITING = "waiting"
     HOMING = "homing"
 
 
 TRANSITIONS = {
-    PartState.IDLE: {PartState.ANIMATING, PartState.WAITING},
-    PartState.ANIMATING: {PartState.ANIMATING, PartState.WAITING, PartState.HOMING, PartState.IDLE},
-    PartState.WAITING: {PartState.ANIMATING, PartState.WAITING, PartState.HOMING, PartState.IDLE},
-    PartState.HOMING: {PartState.ANIMATING, PartState.WAITING, PartState.IDLE},
+    PartState.IDLE: {PartState.ANIMATING, PartState.WAITING, PartState.YIELDING},
+    PartState.ANIMATING: {PartState.ANIMATING, PartState.WAITING, PartState.YIELDING, PartState.HOMING,
+                          PartState.IDLE},
+    PartState.YIELDING: {PartState.ANIMATING, PartState.WAITING, PartState.IDLE},
+    PartState.WAITING: {PartState.ANIMATING, PartState.WAITING, PartState.YIELDING, PartState.HOMING,
+                        PartState.IDLE},
+    PartState.HOMING: {PartState.ANIMATING, PartState.WAITING, PartState.YIELDING, PartState.IDLE},
 }
 
 _GOAL_STATE_NAMES = {getattr(GoalStatus, name): name for name in (
@@ -97,6 +103,10 @@ class PartStream:
         self._debug = debug
         self._warn = warn
         self._plan: Optional[Planner] = None
+        self._animated = False  # a goal of ours moved the part away from its centre since the last return
+        self.foreign = ForeignMotionTracker()  # other nodes' motion on this controller
+        self.yielding_to = ""  # the caller id of the node the part yields to
+        self._yield_started = 0.0
         self._goal_number = 0
         self._sent: Optional[SentGoal] = None
         # Goals that have not reported their end, replaced and cancelled ones too: holding their
@@ -114,12 +124,17 @@ class PartStream:
     def active(self) -> bool:
         return self.state != PartState.IDLE
 
-    def enable(self, motion: PartMotion, plan: Planner) -> None:
+    def enable(self, motion: PartMotion, plan: Planner, quiet_time: float = DEFAULT_QUIET_TIME) -> None:
         """Animate `motion` with goals from `plan`; a running goal is replaced smoothly (the controller splices)."""
         self.motion = motion
         self._plan = plan
+        self.foreign.quiet_time = quiet_time
         self.retry_at = None
-        if self.connected:
+        if self.state == PartState.YIELDING:
+            return
+        if not self.foreign.calm(self._clock()):
+            self._yield(self.foreign.caller, "enabled while another node moves the part")
+        elif self.connected:
             self._send_animation("enabled")
         else:
             self.transition_to(PartState.WAITING, "enabled; controller not connected yet")
@@ -129,7 +144,11 @@ class PartStream:
         self.retry_at = None
         if self.state == PartState.IDLE or self.state == PartState.HOMING:
             return
-        if home and self.connected and self.sent_purpose == PURPOSE_ANIMATE:
+        if self.state == PartState.YIELDING:  # the other node owns the part: send nothing
+            self.yielding_to = ""
+            self.transition_to(PartState.IDLE, "disabled while yielding")
+            return
+        if home and self.connected and self._animated:
             timed = self._send(PURPOSE_HOME, self._plan_home)
             if timed.times[-1] > HOME_MAX_DURATION:
                 self._warn("%s: %s returns to its centre in %.1f s (speed cap).", NODE_NAME, self.part,
@@ -155,6 +174,7 @@ class PartStream:
             return
         self._warn("%s: %s goal ended %s (%s); trying again in %.0f s.", NODE_NAME, self.part, state_name,
                    event.error_string or "no reason given", RETRY_DELAY)
+        self._sent = None  # the controller does not run it: the retry starts from the measured joints
         self.retry_at = self._clock() + RETRY_DELAY
         self.transition_to(PartState.WAITING, "goal %d %s; retry in %.0f s" % (event.goal_number, state_name,
                                                                                RETRY_DELAY))
@@ -168,9 +188,50 @@ class PartStream:
         if self.state == PartState.WAITING and self.retry_at is None:
             self._send_animation("controller connected")
 
+    def foreign_motion(self, key: str, caller: str, kind: str, last_point_at: float) -> None:
+        """Another node sent this controller a goal or a trajectory (`last_point_at`: when its last point passes)."""
+        self.foreign.started(key, caller, kind, self._clock(), last_point_at)
+        if self.state in (PartState.ANIMATING, PartState.WAITING):
+            self._yield(caller, "%s sent a %s" % (caller, kind))
+        elif self.state == PartState.HOMING:  # its motion replaced our return to the centre
+            self._sent = None
+            self._animated = False
+            self._log.write(contract.PART_YIELDED, part=self.part, controller=self.action, caller=caller, kind=kind)
+            self.transition_to(PartState.IDLE, "%s moves the part instead of our return to the centre" % caller)
+        elif self.state == PartState.YIELDING:
+            self.yielding_to = caller
+
+    def foreign_result(self, key: str) -> None:
+        """A goal's result on the controller's action (ours are ignored by the tracker)."""
+        self.foreign.result(key, self._clock())
+
+    def _yield(self, caller: str, why: str) -> None:
+        self._sent = None  # the controller runs the other node's motion now; ours is kept only for its result
+        self.retry_at = None
+        self.yielding_to = caller
+        self._yield_started = self._clock()
+        self._log.write(contract.PART_YIELDED, part=self.part, controller=self.action, caller=caller,
+                        kind=self.foreign.kind_of_latest())
+        self.transition_to(PartState.YIELDING, why)
+
+    def _resume(self, now: float) -> None:
+        seconds = round(now - self._yield_started, 3)
+        self._log.write(contract.PART_RESUMED, part=self.part, controller=self.action, caller=self.yielding_to,
+                        seconds=seconds)
+        why = "%s done, calm for %.1f s" % (self.yielding_to, self.foreign.quiet_time)
+        self.yielding_to = ""
+        if self.connected:
+            self._send_animation(why)  # from the measured joints: nothing of ours runs
+        else:
+            self.transition_to(PartState.WAITING, why + "; controller not connected")
+
     def tick(self) -> None:
-        """Time-driven transitions: a lost result, a retry that is due."""
+        """Time-driven transitions: a lost result, a retry that is due, the end of a yield."""
         now = self._clock()
+        if self.state == PartState.YIELDING:
+            if self.foreign.calm(now):
+                self._resume(now)
+            return
         if self.overdue(now):
             self._warn("%s: no result for the %s goal; sending the next one.", NODE_NAME, self.part)
             self._log.write(contract.ERROR, where=self.part, message="goal result lost")
@@ -183,6 +244,10 @@ class PartStream:
     def next_deadline(self) -> Optional[float]:
         """When `tick` next has something to do, on the stream's clock (None: nothing planned)."""
         deadlines = [self.retry_at] if self.retry_at is not None else []
+        if self.state == PartState.YIELDING:
+            deadline = self.foreign.next_deadline(self._clock())
+            if deadline is not None:
+                deadlines.append(deadline)
         if self._sent is not None:
             deadlines.append(self._sent.spline.end_time + LOST_RESULT_GRACE)
         return min(deadlines) if deadlines else None
@@ -193,12 +258,14 @@ class PartStream:
         purpose = self.sent_purpose
         self._sent = None
         if purpose == PURPOSE_HOME and self.state == PartState.HOMING:
+            self._animated = False
             self.transition_to(PartState.IDLE, why + "; at the centre")
         elif self.state == PartState.ANIMATING:
             self._send_animation(why)
 
     def _send_animation(self, why: str) -> None:
         self._send(PURPOSE_ANIMATE, self._plan)
+        self._animated = True
         self.transition_to(PartState.ANIMATING, why)
 
     def _plan_home(self, now: float, positions, velocities, accelerations) -> TimedTrajectory:

@@ -6,32 +6,40 @@ import logging
 import os
 import queue
 import threading
-import time
-from typing import Dict, List, Optional
+from typing import Dict, List, Optional, Tuple
 
 import actionlib
 import rospy
 from control_msgs.msg import FollowJointTrajectoryAction
+from diagnostic_msgs.msg import DiagnosticArray
 from sensor_msgs.msg import JointState
+from std_srvs.srv import SetBool, SetBoolResponse
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import Configuration, ConfigurationError, configuration_items
 from cssr_system.animate_behaviour.contract import (ACCEPTED_STATES, ENABLED, NODE_NAME, REPLY_FAILURE,
                                                     REPLY_SUCCESS, SERVICE_NAME, parse_activation_state,
-                                                    JOINT_STATES_TOPIC)
+                                                    JOINT_STATES_TOPIC, DIAGNOSTICS_TOPIC, DISABLED,
+                                                    SET_ENABLED_SERVICE_NAME, STATUS_TOPIC)
 from cssr_system.animate_behaviour.event_log import EventLog, default_log_path
 from cssr_system.animate_behaviour.motion.trajectory_timing import time_trajectory
 from cssr_system.animate_behaviour.motion.waypoints import (animated_parts, make_rng, random_waypoints,
                                                             PartMotion)
 from cssr_system.animate_behaviour.node.base_stream import BaseStream
 from cssr_system.animate_behaviour.node.controller_watcher import ControllerWatcher
-from cssr_system.animate_behaviour.node.events import ControllerConnected, Disable, Enable, GoalDone, Shutdown
+from cssr_system.animate_behaviour.node.events import (ControllerConnected, Disable, Enable, GoalDone,
+                                                       Shutdown, ForeignCommand, ForeignGoal, ForeignResult,
+                                                       ForeignTwist)
+from cssr_system.animate_behaviour.node.foreign_motion import COMMAND, GOAL
+from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch
 from cssr_system.animate_behaviour.node.joint_states import JointStateCache
 from cssr_system.animate_behaviour.node.parameters import config_file_parameter, load_node_configuration
 from cssr_system.animate_behaviour.node.part_stream import PartStream, Planner
+from cssr_system.animate_behaviour.node.status import status_diagnostics
 from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.package_files import package_dir, package_version
 from cssr_system.pepper.joint_table import PARTS
+from cssr_system.msg import AnimateBehaviourStatus, PartStatus
 from cssr_system.srv import setActivation, setActivationResponse
 
 
@@ -50,8 +58,13 @@ class AnimateBehaviour:
         self.config: Optional[Configuration] = None
         self.enabled = False
         self.rng = None
-        # The clock the controllers execute goals on; deadlines of the streams refer to it.
-        self.clock = time.monotonic
+        # The clock the controllers execute goals on (ROS time, as Gazebo's controllers): the streams' deadlines.
+        self.clock = rospy.get_time
+        self.watch = ForeignCommandWatch(rospy.get_caller_id(), self.events.put, self.clock)
+        self.status_publisher = rospy.Publisher(STATUS_TOPIC, AnimateBehaviourStatus, queue_size=1, latch=True)
+        self.diagnostics_publisher = rospy.Publisher(DIAGNOSTICS_TOPIC, DiagnosticArray, queue_size=1)
+        self._published_status = None
+        self._command_count = 0  # numbers the command-topic trajectories of other nodes
         self.parts: Dict[str, PartStream] = {}  # by action namespace: one client each, kept for life
         self._parts_lock = threading.Lock()  # the watcher reads `parts` while the supervisor adds
         self.bases: Dict[str, BaseStream] = {}
@@ -77,9 +90,12 @@ class AnimateBehaviour:
         rospy.Subscriber(JOINT_STATES_TOPIC, JointState, self.joint_states.update, queue_size=1)
         self._supervisor.start()
         self._watcher.thread.start()
-        rospy.Service(SERVICE_NAME, setActivation, self.handle_service)
-        rospy.loginfo("%s: service %s ready (requests: %s).", NODE_NAME,
-                      rospy.resolve_name(SERVICE_NAME), ", ".join(ACCEPTED_STATES))
+        self._publish_status()
+        rospy.Service(SERVICE_NAME, setActivation, self.handle_set_activation)
+        rospy.Service(SET_ENABLED_SERVICE_NAME, SetBool, self.handle_set_enabled)
+        rospy.loginfo("%s: service %s ready (requests: %s); %s ready.", NODE_NAME,
+                      rospy.resolve_name(SERVICE_NAME), ", ".join(ACCEPTED_STATES),
+                      rospy.resolve_name(SET_ENABLED_SERVICE_NAME))
         rospy.Timer(rospy.Duration(HEARTBEAT_PERIOD), self._heartbeat)
 
     @staticmethod
@@ -89,34 +105,45 @@ class AnimateBehaviour:
     def _heartbeat(self, _event) -> None:
         rospy.loginfo("%s: running.", NODE_NAME)
 
-    # -- service (any thread): only requests transitions ----------------------------------------
-    def handle_service(self, request) -> setActivationResponse:
-        state = parse_activation_state(request.state)
-        reply = REPLY_FAILURE
-        if state is None:
-            rospy.logwarn("%s: setActivation: unknown state %r; expected one of: %s.", NODE_NAME,
-                          request.state, ", ".join(ACCEPTED_STATES))
-        elif state == ENABLED:
-            try:
-                config_file, config, topics = load_node_configuration()
-            except ConfigurationError as error:
-                rospy.logerr("%s: not enabled: %s", NODE_NAME, error)
-                self.log.write(contract.CONFIGURATION_INVALID, file=config_file_parameter(),
-                               problems=list(error.problems))
-            else:
-                reply = self._request(lambda done: Enable(config_file, config, topics, done))
-        else:
-            reply = self._request(lambda done: Disable("disabled", done))
+    # -- services (any thread): only request transitions ---------------------------------------
+    def handle_set_activation(self, request) -> setActivationResponse:
+        accepted, _ = self._activate(request.state)
+        reply = REPLY_SUCCESS if accepted else REPLY_FAILURE
         self.log.write(contract.ACTIVATION_REQUEST, state=request.state, reply=reply)
         return setActivationResponse(reply)
 
-    def _request(self, make_event) -> str:
+    def handle_set_enabled(self, request) -> SetBoolResponse:
+        state = ENABLED if request.data else DISABLED
+        accepted, message = self._activate(state)
+        self.log.write(contract.ACTIVATION_REQUEST, state=state, reply=REPLY_SUCCESS if accepted else REPLY_FAILURE,
+                       service="set_enabled")
+        return SetBoolResponse(success=accepted, message=message)
+
+    def _activate(self, requested: str) -> Tuple[bool, str]:
+        """Apply a request of either service: (accepted, what happened, in one line)."""
+        state = parse_activation_state(requested)
+        if state is None:
+            message = "unknown state %r; expected one of: %s" % (requested, ", ".join(ACCEPTED_STATES))
+            rospy.logwarn("%s: setActivation: %s.", NODE_NAME, message)
+            return False, message
+        if state == DISABLED:
+            self._request(lambda done: Disable("disabled", done))
+            return True, "disabled"
+        try:
+            config_file, config, topics = load_node_configuration()
+        except ConfigurationError as error:
+            rospy.logerr("%s: not enabled: %s", NODE_NAME, error)
+            self.log.write(contract.CONFIGURATION_INVALID, file=config_file_parameter(), problems=list(error.problems))
+            return False, "not enabled: %s" % error
+        self._request(lambda done: Enable(config_file, config, topics, done))
+        return True, "enabled"
+
+    def _request(self, make_event) -> None:
         done = threading.Event()
         self.events.put(make_event(done))
         if not done.wait(SERVICE_REPLY_TIMEOUT):
             rospy.logwarn("%s: the request is taking longer than %.0f ms; it will still be applied.",
                           NODE_NAME, SERVICE_REPLY_TIMEOUT * 1000)
-        return REPLY_SUCCESS
 
     def request_shutdown(self, reason: str) -> None:
         done = threading.Event()
@@ -135,6 +162,7 @@ class AnimateBehaviour:
                 if event is not None:
                     self._handle(event)
                 self._tick()
+                self._publish_status()
             except Exception as error:  # the supervisor must survive anything a callback brings
                 rospy.logerr("%s: %s: %s", NODE_NAME, type(error).__name__, error)
                 self.log.write(contract.ERROR, where="supervisor",
@@ -147,7 +175,7 @@ class AnimateBehaviour:
         now = self.clock()
         deadlines = [deadline - now for deadline in (stream.next_deadline() for stream in self.parts.values())
                      if deadline is not None]
-        deadlines += [deadline - time.monotonic() for deadline in (base.next_deadline() for base in self.bases.values())
+        deadlines += [deadline - now for deadline in (base.next_deadline(now) for base in self.bases.values())
                       if deadline is not None]
         return min([0.5] + [max(0.0, deadline) for deadline in deadlines])
 
@@ -168,11 +196,21 @@ class AnimateBehaviour:
             stream = self.parts.get(event.action)
             if stream is not None:
                 stream.controller_connected()
+        elif isinstance(event, ForeignGoal):
+            self.parts[event.action].foreign_motion(event.goal_id, event.caller, GOAL, event.last_point_at)
+        elif isinstance(event, ForeignResult):
+            self.parts[event.action].foreign_result(event.goal_id)
+        elif isinstance(event, ForeignCommand):
+            self._command_count += 1
+            self.parts[event.action].foreign_motion("command-%d" % self._command_count, event.caller, COMMAND,
+                                                    event.last_point_at)
+        elif isinstance(event, ForeignTwist):
+            self.bases[event.topic].foreign_twist(event.caller, event.twist, self.clock(), self.log)
 
     def _tick(self) -> None:
         for stream in list(self.parts.values()):
             stream.tick()
-        now = time.monotonic()
+        now = self.clock()
         for base in self.bases.values():
             base.tick(now, self.log)
 
@@ -191,14 +229,14 @@ class AnimateBehaviour:
             if stream.active and (stream.part not in motions or stream.action != topics.get(stream.part)):
                 stream.disable(config.home_on_disable)
         for key, motion in motions.items():
-            self._stream_for(key, topics[key]).enable(motion, self._planner(motion, config))
+            self._stream_for(key, topics[key]).enable(motion, self._planner(motion, config), config.yield_quiet_time)
         wheels = topics.get(WHEELS_KEY) if "rotation" in config.behaviour else None
         if self.active_base is not None and self.active_base.topic != wheels:
-            self.active_base.stop(config.home_on_disable, time.monotonic(), self.log)
+            self.active_base.stop(config.home_on_disable, self.clock(), self.log)
             self.active_base = None
         if wheels is not None:
             self.active_base = self._base_for(wheels)
-            self.active_base.start(config, self.rng, time.monotonic(), self.log)
+            self.active_base.start(config, self.rng, self.clock(), self.log)
         self.enabled = True
         self.log.write(contract.BEHAVIOUR_STARTED, behaviour=sorted(config.behaviour),
                        platform=config.platform, parts=sorted(motions), wheels=wheels,
@@ -221,7 +259,7 @@ class AnimateBehaviour:
         for stream in list(self.parts.values()):
             stream.disable(home)
         if self.active_base is not None:
-            self.active_base.stop(home, time.monotonic(), self.log)
+            self.active_base.stop(home, self.clock(), self.log)
             self.active_base = None
         self.enabled = False
         self.log.write(contract.BEHAVIOUR_ENDED, reason=reason, home=home)
@@ -235,6 +273,7 @@ class AnimateBehaviour:
                 client = actionlib.ActionClient(action, FollowJointTrajectoryAction)
                 self.parts[action] = PartStream(part, action, client, self.clock, self.joint_states.positions,
                                                 self.events.put, self.log)
+                self.watch.watch_controller(action)
             return self.parts[action]
 
     def _stream_snapshot(self) -> List[PartStream]:
@@ -244,4 +283,23 @@ class AnimateBehaviour:
     def _base_for(self, topic: str) -> BaseStream:
         if topic not in self.bases:
             self.bases[topic] = BaseStream(topic)
+            self.watch.watch_base(topic)
         return self.bases[topic]
+
+    # -- status ---------------------------------------------------------------------------------
+    def _publish_status(self) -> None:
+        """The status topic and /diagnostics, when anything changed (README: "Status")."""
+        with self._parts_lock:
+            streams = list(self.parts.values())
+        parts = tuple((stream.part, stream.action, stream.state.value, stream.yielding_to) for stream in streams)
+        parts += tuple((WHEELS_KEY, base.topic, base.status, base.yielding_to) for base in self.bases.values())
+        status = (self.enabled, parts)
+        if status == self._published_status:
+            return
+        self._published_status = status
+        message = AnimateBehaviourStatus(enabled=self.enabled, parts=[
+            PartStatus(part=part, controller=controller, state=state, yielding_to=caller)
+            for part, controller, state, caller in parts])
+        message.header.stamp = rospy.Time.now()
+        self.status_publisher.publish(message)
+        self.diagnostics_publisher.publish(status_diagnostics(message))
