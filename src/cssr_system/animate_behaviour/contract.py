@@ -39,13 +39,15 @@ GOAL_SENT = "goal_sent"  # part, label, action, purpose, joints, centre, lower, 
 GOAL_FINISHED = "goal_finished"  # part, action, purpose, goal, state, error_code, error_string
 CONTROLLER_CONNECTED = "controller_connected"  # part, action
 CONTROLLER_WAITING = "controller_waiting"  # part, action, seconds
+CONTROLLER_LOST = "controller_lost"  # part, action
 BASE_COMMAND = "base_command"  # topic, kind, purpose, angle, target_heading, period, velocities
 ERROR = "error"  # where, message
 NODE_STOPPED = "node_stopped"  # reason
 PART_YIELDED = "part_yielded"  # part, controller, caller, kind (goal, command or twist)
 PART_RESUMED = "part_resumed"  # part, controller, caller, seconds (how long it yielded)
 LOG_EVENTS = (NODE_STARTED, CONFIGURATION_LOADED, CONFIGURATION_INVALID, ACTIVATION_REQUEST, BEHAVIOUR_STARTED,
-              BEHAVIOUR_ENDED, GOAL_SENT, GOAL_FINISHED, CONTROLLER_CONNECTED, CONTROLLER_WAITING, BASE_COMMAND,
+              BEHAVIOUR_ENDED, GOAL_SENT, GOAL_FINISHED, CONTROLLER_CONNECTED, CONTROLLER_WAITING, CONTROLLER_LOST,
+              BASE_COMMAND,
               PART_YIELDED, PART_RESUMED, ERROR, NODE_STOPPED)
 JOINT_STATES_TOPIC = "joint_states"  # relative: resolves to /joint_states
 NODE_PARAMETERS = ("configFile", "logFile")  # private parameters that are not configuration keys

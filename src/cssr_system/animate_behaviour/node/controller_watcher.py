@@ -1,7 +1,8 @@
-"""The watcher thread: finds controllers that are not connected yet, without blocking anyone.
+"""The watcher thread: follows which controllers are there, without blocking anyone.
 
-A missing or slow controller never blocks the service, the other parts or shutdown: the watcher polls
-each missing action server briefly, posts `ControllerConnected` when one appears, and reports a
+A missing or slow controller never blocks the service, the other parts or shutdown: twice a second the
+watcher checks each controller's action server once (no waiting), posts `ControllerConnected` when one
+appears and `ControllerLost` when one goes away (a controller spawner restarting it), and reports a
 controller still missing every WAIT_REPORT_PERIOD seconds (README: "What moves, and how")."""
 import threading
 import time
@@ -11,40 +12,60 @@ import rospy
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import NODE_NAME
-from cssr_system.animate_behaviour.node.events import ControllerConnected
+from cssr_system.animate_behaviour.node.events import ControllerConnected, ControllerLost
 
-WATCH_PERIOD = 0.5  # s between checks of controllers that are not connected yet
+WATCH_PERIOD = 0.5  # s between checks of the controllers
 WAIT_REPORT_PERIOD = 10.0  # s between log lines about a controller that is still missing
-SERVER_PROBE_TIME = 0.05  # s one check waits for a server
+
+
+def server_ready(client) -> bool:
+    """actionlib's own test of ``ActionClient.wait_for_server``, done once, without waiting (so a paused
+    simulation clock cannot hold it) and without the feedback topic, which this node does not use: a status
+    message came from the server, our goal and cancel topics reach it, and its result topic reaches us."""
+    status = client.last_status_msg
+    if status is None:
+        return False
+    server = status._connection_header.get("callerid", "")
+    return (client.pub_goal.impl.has_connection(server) and client.pub_cancel.impl.has_connection(server)
+            and any(connection.callerid_pub == server for connection in client.result_sub.impl.connections))
 
 
 class ControllerWatcher:
     def __init__(self, streams: Callable[[], List], post: Callable[[object], None], log,
-                 stopped: threading.Event) -> None:
+                 stopped: threading.Event, report_error: Callable[[str, Exception], None]) -> None:
         self._streams = streams  # a snapshot of the part streams, from any thread
         self._post = post
         self._log = log
         self._stopped = stopped
+        self._report_error = report_error
+        self._missing_since: Dict[str, float] = {}  # when each missing controller was first looked for
+        self._last_report: Dict[str, float] = {}
         self.thread = threading.Thread(target=self.run, name="watcher", daemon=True)
 
     def run(self) -> None:
-        started: Dict[str, float] = {}  # when each missing controller was first looked for
-        last_report: Dict[str, float] = {}
         while not self._stopped.is_set() and not rospy.is_shutdown():
-            for stream in self._streams():
-                if stream.connected:
-                    continue
-                action = stream.action
-                started.setdefault(action, time.monotonic())
-                if stream.client.wait_for_server(rospy.Duration(SERVER_PROBE_TIME)):
-                    self._post(ControllerConnected(stream.part, action))
-                    continue
-                waited = time.monotonic() - started[action]
-                if (waited >= WAIT_REPORT_PERIOD
-                        and time.monotonic() - last_report.get(action, 0.0) >= WAIT_REPORT_PERIOD):
-                    last_report[action] = time.monotonic()
-                    rospy.logwarn("%s: still waiting for controller %s (%.0f s); %s is skipped "
-                                  "until it appears.", NODE_NAME, action, waited, stream.part)
-                    self._log.write(contract.CONTROLLER_WAITING, part=stream.part, action=action,
-                                    seconds=round(waited, 1))
+            try:
+                self.check()
+            except Exception as error:  # the watcher goes on: a missed check is made again in WATCH_PERIOD
+                self._report_error("watcher", error)
             self._stopped.wait(WATCH_PERIOD)
+
+    def check(self) -> None:
+        for stream in self._streams():
+            action = stream.action
+            ready = server_ready(stream.client)
+            if ready and not stream.connected:
+                self._post(ControllerConnected(stream.part, action))
+            elif not ready and stream.connected:
+                self._post(ControllerLost(stream.part, action))
+            if ready:
+                self._missing_since.pop(action, None)
+                continue
+            waited = time.monotonic() - self._missing_since.setdefault(action, time.monotonic())
+            if (waited >= WAIT_REPORT_PERIOD
+                    and time.monotonic() - self._last_report.get(action, 0.0) >= WAIT_REPORT_PERIOD):
+                self._last_report[action] = time.monotonic()
+                rospy.logwarn("%s: still waiting for controller %s (%.0f s); %s is skipped "
+                              "until it appears.", NODE_NAME, action, waited, stream.part)
+                self._log.write(contract.CONTROLLER_WAITING, part=stream.part, action=action,
+                                seconds=round(waited, 1))

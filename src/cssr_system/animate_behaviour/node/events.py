@@ -32,21 +32,26 @@ class ControllerConnected(NamedTuple):
     action: str
 
 
+class ControllerLost(NamedTuple):
+    part: str
+    action: str
+
+
 class Shutdown(NamedTuple):
     reason: str
     done: threading.Event
 
 
 class ForeignGoal(NamedTuple):
-    """Another node's goal on a controller's action (seen on <action>/goal)."""
+    """Another node's goal on a controller's action, first seen running on <action>/status."""
     action: str
     goal_id: str
     caller: str
-    last_point_at: float  # when its last point passes, on the controllers' clock
+    last_point_at: Optional[float]  # when its last point passes, if known; else its end is its result
 
 
 class ForeignResult(NamedTuple):
-    """A goal's result on a controller's action (anyone's)."""
+    """Another node's goal ended (a terminal state on <action>/status, or gone from it)."""
     action: str
     goal_id: str
 

@@ -2,8 +2,8 @@
 
 README: "Sharing the robot". Another node's command makes a part yield. A motion counts as running:
 
-- a goal on the controller's action: until its result arrives (any terminal state), or, if no result
-  comes, until RESULT_GRACE after its last point has passed;
+- a goal on the controller's action: until it ends (a terminal state on the action's status), or, when its
+  last point is known and no end comes, until RESULT_GRACE after that point;
 - a trajectory on the controller's ``command`` topic (it has no result): until its last point has passed;
 - a Twist on the base topic: until the base is done with it (a relative turn's time on ``cmd_moveto``,
   the velocity time-out on a velocity topic).
@@ -22,7 +22,7 @@ class ForeignMotion(NamedTuple):
     caller: str  # the other node's caller id
     kind: str  # GOAL, COMMAND or TWIST
     started: float
-    last_point_at: float  # when its last point passes (goals and commands) or the base is done (twists)
+    last_point_at: Optional[float]  # when its last point passes or the base is done; None: unknown
     ended_at: Optional[float]  # when its result came (goals only)
 
 
@@ -33,9 +33,10 @@ class ForeignMotionTracker:
         self._last_end: Optional[float] = None  # the latest end of a motion already forgotten
         self._latest_caller = ""
 
-    def started(self, key: str, caller: str, kind: str, now: float, last_point_at: float) -> None:
+    def started(self, key: str, caller: str, kind: str, now: float, last_point_at: Optional[float]) -> None:
         """Another node's motion began (`key`: its goal id, or any key unique to it)."""
-        self._motions[key] = ForeignMotion(caller, kind, now, max(now, last_point_at), None)
+        end = None if last_point_at is None else max(now, last_point_at)
+        self._motions[key] = ForeignMotion(caller, kind, now, end, None)
         self._latest_caller = caller
 
     def result(self, key: str, now: float) -> None:
@@ -47,6 +48,8 @@ class ForeignMotionTracker:
     def _end_of(self, motion: ForeignMotion) -> float:
         if motion.ended_at is not None:
             return motion.ended_at
+        if motion.last_point_at is None:
+            return float("inf")  # until its end is reported
         return motion.last_point_at + (RESULT_GRACE if motion.kind == GOAL else 0.0)
 
     def busy(self, now: float) -> bool:
@@ -77,7 +80,7 @@ class ForeignMotionTracker:
         """The next moment `calm` may change (None: nothing pending)."""
         pending = [self._end_of(motion) for motion in self._motions.values() if now < self._end_of(motion)]
         if pending:
-            return min(pending)
+            return min(pending) if min(pending) < float("inf") else None
         return self.resume_at(now) if self._motions else None
 
     def kind_of_latest(self) -> str:

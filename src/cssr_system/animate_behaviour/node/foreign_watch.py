@@ -1,24 +1,36 @@
 """Subscriptions that notice other nodes' commands on our controllers and on the base topic, and post them
 to the supervisor as events (README: "Sharing the robot").
 
-Every client's goals travel on ``<action>/goal``, each message with its sender's caller id; every goal's end
-on ``<action>/result``; a controller also obeys trajectories on its ``command`` topic. Messages from this
-node itself are not foreign: they are recognised by the caller id (goals, Twists) or by the goal id, which
-actionlib starts with the client's caller id (results)."""
-from typing import Callable
+Goals: every action server publishes ``<action>/status``, the list of every client's goals with their states,
+at each change and a few times a second. The node's action clients receive it anyway, and rospy shares one
+connection per topic inside a node, so watching it costs no connection and no thread (a subscription to
+``<action>/goal`` would cost two threads per controller and the deserialization of every goal). actionlib
+starts each goal id with its client's node name, which tells whose goal it is. Trajectories on a
+controller's ``command`` topic and Twists on the base topic are watched directly; this node's own Twists are
+recognised by their caller id."""
+import threading
+from typing import Callable, Dict
 
 import rospy
-from control_msgs.msg import FollowJointTrajectoryActionGoal, FollowJointTrajectoryActionResult
+from actionlib_msgs.msg import GoalStatus, GoalStatusArray
 from geometry_msgs.msg import Twist
 from trajectory_msgs.msg import JointTrajectory
 
 from cssr_system.animate_behaviour.node.events import ForeignCommand, ForeignGoal, ForeignResult, ForeignTwist
 from cssr_system.pepper.joint_table import command_topic
 
+RUNNING_STATES = (GoalStatus.PENDING, GoalStatus.ACTIVE, GoalStatus.PREEMPTING, GoalStatus.RECALLING)
+
 
 def caller_of(message) -> str:
     """The caller id of the node that published `message` (rospy keeps its connection header)."""
     return getattr(message, "_connection_header", {}).get("callerid", "")
+
+
+def caller_of_goal(goal_id: str) -> str:
+    """The node that sent a goal: actionlib's goal ids are ``<node name>-<number>-<time>``."""
+    parts = goal_id.rsplit("-", 2)
+    return parts[0] if len(parts) == 3 and parts[0] else goal_id
 
 
 def trajectory_end(trajectory: JointTrajectory, received_at: float) -> float:
@@ -29,43 +41,53 @@ def trajectory_end(trajectory: JointTrajectory, received_at: float) -> float:
 
 class ForeignCommandWatch:
     def __init__(self, own_caller_id: str, post: Callable[[object], None], clock: Callable[[], float]) -> None:
+        self._own_prefix = own_caller_id + "-"
         self._own = own_caller_id
         self._post = post
         self._clock = clock
+        self._running: Dict[str, set] = {}  # per action: ids of other clients' goals seen running
+        self._lock = threading.Lock()
         self._subscribers = []  # kept for the node's life
 
     def watch_controller(self, action: str) -> None:
+        with self._lock:
+            self._running[action] = set()
         self._subscribers += [
-            rospy.Subscriber(action + "/goal", FollowJointTrajectoryActionGoal, self._on_goal, callback_args=action,
-                             queue_size=10),
-            rospy.Subscriber(action + "/result", FollowJointTrajectoryActionResult, self._on_result,
-                             callback_args=action, queue_size=10),
+            rospy.Subscriber(action + "/status", GoalStatusArray, self._on_status, callback_args=action),
             rospy.Subscriber(command_topic(action), JointTrajectory, self._on_command, callback_args=action,
                              queue_size=10)]
 
     def watch_base(self, topic: str) -> None:
         self._subscribers.append(rospy.Subscriber(topic, Twist, self._on_twist, callback_args=topic, queue_size=10))
 
-    def _foreign(self, message) -> str:
-        caller = caller_of(message)
-        return caller if caller and caller != self._own else ""
-
-    def _on_goal(self, message: FollowJointTrajectoryActionGoal, action: str) -> None:
-        caller = self._foreign(message)
-        if caller:
-            self._post(ForeignGoal(action, message.goal_id.id, caller,
-                                   trajectory_end(message.goal.trajectory, self._clock())))
-
-    def _on_result(self, message: FollowJointTrajectoryActionResult, action: str) -> None:
-        goal_id = message.status.goal_id.id
-        if not goal_id.startswith(self._own + "-"):
-            self._post(ForeignResult(action, goal_id))
+    def _on_status(self, message: GoalStatusArray, action: str) -> None:
+        """Posts a ForeignGoal when another client's goal is first seen running, a ForeignResult when it ends
+        (a terminal state, or gone from the list)."""
+        listed = set()
+        with self._lock:
+            running = self._running[action]
+            for status in message.status_list:
+                goal_id = status.goal_id.id
+                if goal_id.startswith(self._own_prefix):
+                    continue
+                listed.add(goal_id)
+                if status.status in RUNNING_STATES:
+                    if goal_id not in running:
+                        running.add(goal_id)
+                        self._post(ForeignGoal(action, goal_id, caller_of_goal(goal_id), None))
+                elif goal_id in running:
+                    running.discard(goal_id)
+                    self._post(ForeignResult(action, goal_id))
+            for goal_id in running - listed:
+                running.discard(goal_id)
+                self._post(ForeignResult(action, goal_id))
 
     def _on_command(self, message: JointTrajectory, action: str) -> None:
-        caller = self._foreign(message) or "unknown"  # we never publish there
-        self._post(ForeignCommand(action, caller, trajectory_end(message, self._clock())))
+        caller = caller_of(message)
+        if caller != self._own:  # never ours: the node does not publish there
+            self._post(ForeignCommand(action, caller or "unknown", trajectory_end(message, self._clock())))
 
     def _on_twist(self, message: Twist, topic: str) -> None:
-        caller = self._foreign(message)
-        if caller:
+        caller = caller_of(message)
+        if caller and caller != self._own:
             self._post(ForeignTwist(topic, caller, message))

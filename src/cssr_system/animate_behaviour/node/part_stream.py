@@ -225,6 +225,22 @@ class PartStream:
         else:
             self.transition_to(PartState.WAITING, why + "; controller not connected")
 
+    def controller_lost(self) -> None:
+        """The controller went away (its server no longer answers): our goal is gone with it. The part waits
+        and animates again from the measured joints as soon as the controller is back."""
+        if not self.connected:
+            return
+        self.connected = False
+        self._sent = None
+        self.retry_at = None
+        self._warn("%s: controller %s is gone; %s waits for it.", NODE_NAME, self.action, self.part)
+        self._log.write(contract.CONTROLLER_LOST, part=self.part, action=self.action)
+        if self.state in (PartState.ANIMATING, PartState.WAITING):
+            self.transition_to(PartState.WAITING, "controller gone")
+        elif self.state == PartState.HOMING:
+            self._animated = False
+            self.transition_to(PartState.IDLE, "controller gone while returning to the centre")
+
     def tick(self) -> None:
         """Time-driven transitions: a lost result, a retry that is due, the end of a yield."""
         now = self._clock()

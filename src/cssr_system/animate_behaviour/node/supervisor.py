@@ -29,7 +29,7 @@ from cssr_system.animate_behaviour.node.base_stream import BaseStream
 from cssr_system.animate_behaviour.node.controller_watcher import ControllerWatcher
 from cssr_system.animate_behaviour.node.events import (ControllerConnected, Disable, Enable, GoalDone,
                                                        Shutdown, ForeignCommand, ForeignGoal, ForeignResult,
-                                                       ForeignTwist)
+                                                       ForeignTwist, ControllerLost)
 from cssr_system.animate_behaviour.node.foreign_motion import COMMAND, GOAL
 from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch
 from cssr_system.animate_behaviour.node.joint_states import JointStateCache
@@ -37,9 +37,9 @@ from cssr_system.animate_behaviour.node.parameters import config_file_parameter,
 from cssr_system.animate_behaviour.node.part_stream import PartStream, Planner
 from cssr_system.animate_behaviour.node.status import status_diagnostics
 from cssr_system.animate_behaviour.topics import WHEELS_KEY
+from cssr_system.msg import AnimateBehaviourStatus, PartStatus
 from cssr_system.package_files import package_dir, package_version
 from cssr_system.pepper.joint_table import PARTS
-from cssr_system.msg import AnimateBehaviourStatus, PartStatus
 from cssr_system.srv import setActivation, setActivationResponse
 
 
@@ -71,7 +71,8 @@ class AnimateBehaviour:
         self.active_base: Optional[BaseStream] = None
         self._stopped = threading.Event()
         self._supervisor = threading.Thread(target=self._run, name="supervisor", daemon=True)
-        self._watcher = ControllerWatcher(self._stream_snapshot, self.events.put, self.log, self._stopped)
+        self._watcher = ControllerWatcher(self._stream_snapshot, self.events.put, self.log, self._stopped,
+                                          self.report_error)
 
     # -- start-up -----------------------------------------------------------------------------
     def start(self, config_file: str, config: Configuration, topics: Dict[str, str]) -> None:
@@ -164,9 +165,7 @@ class AnimateBehaviour:
                 self._tick()
                 self._publish_status()
             except Exception as error:  # the supervisor must survive anything a callback brings
-                rospy.logerr("%s: %s: %s", NODE_NAME, type(error).__name__, error)
-                self.log.write(contract.ERROR, where="supervisor",
-                               message="{}: {}".format(type(error).__name__, error))
+                self.report_error("supervisor", error)
             if isinstance(event, Shutdown):
                 event.done.set()
                 self._stopped.set()
@@ -193,9 +192,9 @@ class AnimateBehaviour:
             if stream is not None:
                 stream.goal_done(event)
         elif isinstance(event, ControllerConnected):
-            stream = self.parts.get(event.action)
-            if stream is not None:
-                stream.controller_connected()
+            self.parts[event.action].controller_connected()
+        elif isinstance(event, ControllerLost):
+            self.parts[event.action].controller_lost()
         elif isinstance(event, ForeignGoal):
             self.parts[event.action].foreign_motion(event.goal_id, event.caller, GOAL, event.last_point_at)
         elif isinstance(event, ForeignResult):
@@ -271,10 +270,20 @@ class AnimateBehaviour:
                 # The goal-handle client, not SimpleActionClient: its transitions carry their handle, so
                 # a result that arrives before send_goal returns is not lost.
                 client = actionlib.ActionClient(action, FollowJointTrajectoryAction)
+                # Feedback is not used: no connection, no thread, no decoding at the controller's rate (the
+                # watcher's server_ready does not need it).
+                client.feedback_sub.unregister()
+                # Cancels are rare and small: published at once rather than through a queue thread per controller.
+                client.pub_cancel.impl.set_queue_size(None)
                 self.parts[action] = PartStream(part, action, client, self.clock, self.joint_states.positions,
                                                 self.events.put, self.log)
                 self.watch.watch_controller(action)
             return self.parts[action]
+
+    def report_error(self, where: str, error: Exception) -> None:
+        """An unexpected error in a thread of the node: one line on the console and in the log; the thread goes on."""
+        rospy.logerr("%s: %s: %s: %s", NODE_NAME, where, type(error).__name__, error)
+        self.log.write(contract.ERROR, where=where, message="{}: {}".format(type(error).__name__, error))
 
     def _stream_snapshot(self) -> List[PartStream]:
         with self._parts_lock:
