@@ -367,3 +367,49 @@ def test_another_nodes_motion_replaces_our_return_home():
     assert rig.stream.state == PartState.HOMING
     rig.stream.foreign_motion("g", "/gestureExecution", "goal", last_point_at=rig.now + 3.0)
     assert rig.stream.state == PartState.IDLE and len(rig.client.handles) == 2
+
+
+# -- faults ------------------------------------------------------------------------------------------
+
+def test_a_controller_that_rejects_everything_is_retried_with_back_off():
+    rig = Rig()
+    rig.enable()
+    delays = []
+    for _ in range(7):
+        rig.finish_last(GoalStatus.REJECTED)
+        delays.append(round(rig.stream.retry_at - rig.now, 6))
+        rig.now = rig.stream.retry_at
+        rig.stream.tick()
+    assert delays == [2.0, 4.0, 8.0, 16.0, 30.0, 30.0, 30.0]
+    assert len(rig.warnings) == 7, "one line per back-off"
+    # The controller works again: the retried goal runs, succeeds, and the next failure starts afresh.
+    rig.finish_last(GoalStatus.SUCCEEDED)
+    assert rig.stream.state == PartState.ANIMATING
+    rig.finish_last(GoalStatus.ABORTED)
+    assert rig.stream.retry_at - rig.now == pytest.approx(RETRY_DELAY)
+
+
+def test_a_failure_after_a_long_healthy_run_starts_the_back_off_afresh():
+    rig = Rig()
+    rig.enable()
+    rig.finish_last(GoalStatus.ABORTED)
+    rig.now = rig.stream.retry_at
+    rig.stream.tick()
+    rig.now += 10.0  # the retried goal runs well
+    rig.finish_last(GoalStatus.ABORTED)
+    assert rig.stream.retry_at - rig.now == pytest.approx(RETRY_DELAY)
+
+
+def test_a_controller_that_goes_away_and_comes_back():
+    rig = Rig()
+    rig.enable()
+    rig.stream.controller_lost()
+    assert rig.stream.state == PartState.WAITING and not rig.stream.connected
+    rig.now += 1.0
+    rig.stream.tick()
+    assert len(rig.client.handles) == 1, "nothing is sent to a controller that is gone"
+    rig.measured = numpy.array(PARTS["RArm"].centre) + 0.1
+    rig.stream.controller_connected()
+    assert rig.stream.state == PartState.ANIMATING and len(rig.client.handles) == 2
+    numpy.testing.assert_allclose(rig.stream.current_state(rig.now)[0], rig.measured, atol=1e-12)
+    assert rig.log.events(contract.CONTROLLER_LOST) == [{"part": "RArm", "action": ACTION}]

@@ -40,7 +40,9 @@ from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
 
 HOME_GESTURE_DURATION = 0.5  # s, the shortest return to the centre on disable (stretched as needed)
 HOME_MAX_DURATION = 2.0  # s; longer returns are reported (the speed cap wins over this bound)
-RETRY_DELAY = 2.0  # s before a part tries again after a rejected, aborted or foreign-preempted goal
+RETRY_DELAY = 2.0  # s before a part tries again after a failed goal (rejected, aborted, preempted by an unseen node)
+MAX_RETRY_DELAY = 30.0  # s: the back-off doubles the delay after each failure in a row, up to this
+HEALTHY_RUN = 5.0  # s: a goal that ran this long before failing starts the back-off afresh
 MAX_UNFINISHED_GOALS = 16  # handles kept for goals whose end has not been reported yet
 LOST_RESULT_GRACE = 5.0  # s after a goal's end before a missing result counts as lost
 
@@ -104,6 +106,7 @@ class PartStream:
         self._warn = warn
         self._plan: Optional[Planner] = None
         self._animated = False  # a goal of ours moved the part away from its centre since the last return
+        self._failures = 0  # failed goals in a row: the back-off
         self.foreign = ForeignMotionTracker()  # other nodes' motion on this controller
         self.yielding_to = ""  # the caller id of the node the part yields to
         self._yield_started = 0.0
@@ -170,14 +173,19 @@ class PartStream:
         if not self.is_current(event.goal_number) or self.state == PartState.IDLE:
             return  # a goal we replaced or cancelled: its end changes nothing
         if event.state == GoalStatus.SUCCEEDED or sent.purpose == PURPOSE_HOME:
+            self._failures = 0
             self._finish_goal("goal %d %s" % (event.goal_number, state_name))
             return
+        now = self._clock()
+        if now - sent.spline.start_time >= HEALTHY_RUN:
+            self._failures = 0
+        self._failures += 1
+        delay = min(RETRY_DELAY * 2 ** (self._failures - 1), MAX_RETRY_DELAY)
         self._warn("%s: %s goal ended %s (%s); trying again in %.0f s.", NODE_NAME, self.part, state_name,
-                   event.error_string or "no reason given", RETRY_DELAY)
+                   event.error_string or "no reason given", delay)
         self._sent = None  # the controller does not run it: the retry starts from the measured joints
-        self.retry_at = self._clock() + RETRY_DELAY
-        self.transition_to(PartState.WAITING, "goal %d %s; retry in %.0f s" % (event.goal_number, state_name,
-                                                                               RETRY_DELAY))
+        self.retry_at = now + delay
+        self.transition_to(PartState.WAITING, "goal %d %s; retry in %.0f s" % (event.goal_number, state_name, delay))
 
     def controller_connected(self) -> None:
         if self.connected:
