@@ -9,7 +9,8 @@ starts each goal id with its client's node name, which tells whose goal it is. T
 controller's ``command`` topic and Twists on the base topic are watched directly; this node's own Twists are
 recognised by their caller id."""
 import threading
-from typing import Callable, Dict
+from collections import defaultdict
+from typing import Callable, Dict, Set
 
 import rospy
 from actionlib_msgs.msg import GoalStatus, GoalStatusArray
@@ -45,13 +46,11 @@ class ForeignCommandWatch:
         self._own = own_caller_id
         self._post = post
         self._clock = clock
-        self._running: Dict[str, set] = {}  # per action: ids of other clients' goals seen running
+        self._running: Dict[str, Set[str]] = defaultdict(set)  # per action: other clients' goals seen running
         self._lock = threading.Lock()
         self._subscribers = []  # kept for the node's life
 
     def watch_controller(self, action: str) -> None:
-        with self._lock:
-            self._running[action] = set()
         self._subscribers += [
             rospy.Subscriber(action + "/status", GoalStatusArray, self._on_status, callback_args=action),
             rospy.Subscriber(command_topic(action), JointTrajectory, self._on_command, callback_args=action,

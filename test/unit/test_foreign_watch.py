@@ -1,0 +1,65 @@
+"""Unit tests of how the node tells other nodes' goals and Twists from its own (node/foreign_watch.py), no master."""
+from actionlib_msgs.msg import GoalID, GoalStatus, GoalStatusArray
+from geometry_msgs.msg import Twist, Vector3
+
+from cssr_system.animate_behaviour.node.events import ForeignGoal, ForeignResult, ForeignTwist
+from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch, caller_of_goal
+
+ACTION = "/pepper_dcm/RightArm_controller/follow_joint_trajectory"
+
+
+def status_array(*goals):
+    return GoalStatusArray(status_list=[GoalStatus(goal_id=GoalID(id=goal_id), status=state)
+                                        for goal_id, state in goals])
+
+
+def make_watch():
+    posted = []
+    return ForeignCommandWatch("/animateBehaviour", posted.append, lambda: 100.0), posted
+
+
+def test_caller_of_goal_reads_actionlibs_goal_id():
+    assert caller_of_goal("/gestureExecution-3-1795412345.678") == "/gestureExecution"
+    assert caller_of_goal("/robot1/teleop-12-17.5") == "/robot1/teleop"
+    assert caller_of_goal("odd") == "odd"
+
+
+def test_another_clients_goal_is_posted_once_when_running_and_once_when_it_ends():
+    watch, posted = make_watch()
+    gesture = "/gestureExecution-1-17.25"
+    watch._on_status(status_array(("/animateBehaviour-4-16.0", GoalStatus.PREEMPTED), (gesture, GoalStatus.ACTIVE)),
+                     ACTION)
+    watch._on_status(status_array((gesture, GoalStatus.ACTIVE)), ACTION)  # the server repeats its status
+    assert posted == [ForeignGoal(ACTION, gesture, "/gestureExecution", None)]
+    watch._on_status(status_array((gesture, GoalStatus.SUCCEEDED)), ACTION)
+    watch._on_status(status_array((gesture, GoalStatus.SUCCEEDED)), ACTION)
+    assert posted[1:] == [ForeignResult(ACTION, gesture)]
+
+
+def test_our_own_goals_are_never_foreign():
+    watch, posted = make_watch()
+    watch._on_status(status_array(("/animateBehaviour-1-1.0", GoalStatus.ACTIVE)), ACTION)
+    assert posted == []
+
+
+def test_a_goal_that_leaves_the_status_list_has_ended():
+    watch, posted = make_watch()
+    watch._on_status(status_array(("/teleop-1-2.0", GoalStatus.PENDING)), ACTION)
+    watch._on_status(status_array(), ACTION)
+    assert posted == [ForeignGoal(ACTION, "/teleop-1-2.0", "/teleop", None), ForeignResult(ACTION, "/teleop-1-2.0")]
+
+
+def test_a_goal_first_seen_ended_is_not_a_motion():
+    watch, posted = make_watch()
+    watch._on_status(status_array(("/teleop-1-2.0", GoalStatus.SUCCEEDED)), ACTION)
+    assert posted == []
+
+
+def test_twists_are_foreign_by_caller_id():
+    watch, posted = make_watch()
+    ours, theirs = Twist(angular=Vector3(z=0.1)), Twist(angular=Vector3(z=0.2))
+    ours._connection_header = {"callerid": "/animateBehaviour"}
+    theirs._connection_header = {"callerid": "/overtAttention"}
+    watch._on_twist(ours, "/pepper_dcm/cmd_moveto")
+    watch._on_twist(theirs, "/pepper_dcm/cmd_moveto")
+    assert posted == [ForeignTwist("/pepper_dcm/cmd_moveto", "/overtAttention", theirs)]
