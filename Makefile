@@ -1,11 +1,13 @@
 # The two commands of the README, and the steps they are made of.
 .PHONY: demo test benchmark setup build clean
 
-# make demo DURATION=10 PLATFORM=simulator, or DEMO_DURATION / DEMO_PLATFORM in the environment
-# (the short names only from the command line: environments often hold an unrelated PLATFORM).
+# make demo DURATION=10 PLATFORM=simulator BEHAVIOUR=hands OUTPUT_DIR=/tmp/demo GESTURE=1
+#           NODE_ARGS="_gestureDuration:=1.5" SIM_ARGS="..."
+# or DEMO_DURATION, DEMO_PLATFORM, ... in the environment (the short names only from the command line:
+# environments often hold an unrelated PLATFORM).
+DEMO_OPTIONS := DURATION PLATFORM BEHAVIOUR OUTPUT_DIR GESTURE NODE_ARGS SIM_ARGS
 demo:
-	DEMO_DURATION="$(if $(filter command line,$(origin DURATION)),$(DURATION),$(DEMO_DURATION))" \
-	DEMO_PLATFORM="$(if $(filter command line,$(origin PLATFORM)),$(PLATFORM),$(DEMO_PLATFORM))" \
+	$(foreach option,$(DEMO_OPTIONS),$(if $(filter command line,$(origin $(option))),DEMO_$(option)='$(subst ','\'',$($(option)))')) \
 	bash tools/demo.sh
 
 test:

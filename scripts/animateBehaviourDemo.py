@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
-"""animateBehaviourDemo: shows animateBehaviour on the simulated Pepper and plots what it did (`make demo`).
+"""animateBehaviourDemo: the demo's driver: enables animateBehaviour, prints what moves, disables it (`make demo`).
 
-python3 scripts/animateBehaviourDemo.py --help   (README: "Demo")
+roslaunch cssr_system animateBehaviourDemo.launch starts it with the rest of the demo   (README: "Demo")
 """
 import sys
 
-from cssr_system.animate_behaviour.demo import main
+from cssr_system.animate_behaviour.demo.driver import main
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
+    sys.exit(main())

@@ -1,13 +1,24 @@
 #!/usr/bin/env bash
 # The demo (`make demo`): installs what is missing, builds the workspace, then runs
-# scripts/animateBehaviourDemo.py: a private master, the simulated Pepper and animateBehaviour
-# (behaviour all), enabled for DEMO_DURATION seconds with one line a second, then disabled; it
-# leaves a plot of every animated joint and the base heading and prints its path.
+# launch/animateBehaviourDemo.launch on a master of its own: the simulated Pepper, animateBehaviour
+# (behaviour all), the recorder and the demo's driver, which enables the node for DEMO_DURATION seconds
+# with one line a second, then disables it; the launch ends with the driver and the recorder leaves a plot
+# of every animated joint and the base heading, and prints its path.
 #   make demo                         30 s, the robot's interface of the simulated Pepper (with hands)
-#   make demo DURATION=10 PLATFORM=simulator    or: DEMO_DURATION=10 DEMO_PLATFORM=simulator make demo
-# Environment: DEMO_DURATION (s, default 30), DEMO_PLATFORM (robot or simulator, default robot),
-# DEMO_BEHAVIOUR (default all), DEMO_OUTPUT_DIR (default: the workspace's demo folder), DEMO_MASTER_URI (default: a
-# master of its own on a free port, so a master you run is never touched).
+#   make demo DURATION=10 PLATFORM=simulator BEHAVIOUR=hands OUTPUT_DIR=/tmp/demo GESTURE=1
+#   make demo NODE_ARGS="_gestureDuration:=1.5" SIM_ARGS="_feedback_rate:=20"
+# Environment (what the make variables set): DEMO_DURATION (s, default 30), DEMO_PLATFORM (robot or
+# simulator, default robot), DEMO_BEHAVIOUR (default all), DEMO_OUTPUT_DIR (default: the workspace's demo
+# folder), DEMO_GESTURE (1: a gesture on the right arm half-way), DEMO_NODE_ARGS and DEMO_SIM_ARGS
+# (private parameters of the node and of the simulated Pepper, `_name:=value` words; the leading `_` may
+# be left out), DEMO_MASTER_URI (default: a master of its own on a free port, so a master you run is
+# never touched).
+# Exit status: 0 when the run completed, 1 when something did not start or failed, 130 on Ctrl-C.
+#
+# roslaunch supervises the processes. One thing is done here by hand: roslaunch stops all nodes at
+# once on Ctrl-C, so it could not disable animateBehaviour before stopping it. roslaunch therefore runs
+# in a session of its own (Ctrl-C reaches this script only), and on Ctrl-C this script asks the driver to
+# stop (`rosnode kill`): the driver disables the node and exits, and the launch ends with it.
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 cd "$REPO_DIR"
@@ -21,10 +32,77 @@ else
   export ROS_MASTER_URI="http://localhost:$free_port"
 fi
 
-log_step "demo: animateBehaviour on the simulated Pepper"
-# exec: Ctrl-C and the exit status belong to the demo itself, which stops everything it started.
-exec python3 "$REPO_DIR/scripts/animateBehaviourDemo.py" \
-  --duration "${DEMO_DURATION:-30}" \
-  --platform "${DEMO_PLATFORM:-robot}" \
-  --behaviour "${DEMO_BEHAVIOUR:-all}" \
-  --output-dir "${DEMO_OUTPUT_DIR:-$WORKSPACE_DIR/demo}"
+# `_name:=value` words; a word `name:=value` gets its `_` (a private parameter, as rosrun takes it).
+private_parameters() {
+  local word result=()
+  for word in $1; do
+    case $word in *?:=*) ;; *) echo "demo: error: '$word' in $2 is not _name:=value" >&2; return 1 ;; esac
+    case $word in _*) result+=("$word") ;; *) result+=("_$word") ;; esac
+  done
+  echo "${result[*]:-}"
+}
+# The launch file reads them from the environment (roslaunch refuses ':=' in an arg's value).
+DEMO_NODE_ARGS=$(private_parameters "${DEMO_NODE_ARGS:-}" NODE_ARGS)
+DEMO_SIM_ARGS=$(private_parameters "${DEMO_SIM_ARGS:-}" SIM_ARGS)
+export DEMO_NODE_ARGS DEMO_SIM_ARGS
+case ${DEMO_GESTURE:-0} in
+  1|true|yes) gesture=true ;;
+  0|false|no|"") gesture=false ;;
+  *) echo "demo: error: GESTURE=${DEMO_GESTURE} (expected 1 or 0)" >&2; exit 1 ;;
+esac
+output_dir=$(mkdir -p "${DEMO_OUTPUT_DIR:-$WORKSPACE_DIR/demo}" && cd "${DEMO_OUTPUT_DIR:-$WORKSPACE_DIR/demo}" && pwd)
+launch_log="$output_dir/roslaunch.log"
+outcome_file="$output_dir/demo_outcome.txt"
+rm -f "$outcome_file"
+
+log_step "demo: animateBehaviour on the simulated Pepper (master $ROS_MASTER_URI; full output: $launch_log)"
+# Until the handler below is set, Ctrl-C is ignored here, and the processes started now inherit that:
+# the display always shows the end of the run, and roslaunch sets its own handlers.
+trap '' INT TERM
+setsid roslaunch cssr_system animateBehaviourDemo.launch \
+  duration:="${DEMO_DURATION:-30}" platform:="${DEMO_PLATFORM:-robot}" behaviour:="${DEMO_BEHAVIOUR:-all}" \
+  gesture:="$gesture" output_dir:="$output_dir" \
+  log_file:="$output_dir/animateBehaviourLogFile.log" outcome_file:="$outcome_file" \
+  </dev/null >"$launch_log" 2>&1 &
+launch_pid=$!
+
+# What you see: the lines of the demo's nodes, errors of any node, and roslaunch's own errors.
+shown='^animateBehaviour(Demo|Recorder)|^ *[0-9]+ s  |^[A-Za-z]+: (error|invalid)|\[(ERROR|FATAL)\]|process has died'
+shown+='|RLException|^ERROR|^Invalid|^Resource not found'
+(tail -n +1 -s 0.2 -f --pid="$launch_pid" "$launch_log" | grep --line-buffered -E "$shown" || true) &
+display_pid=$!
+
+interrupted=0
+trap 'interrupted=$((interrupted + 1))' INT TERM
+stop_sent=0
+while kill -0 "$launch_pid" 2>/dev/null; do
+  if [ "$interrupted" -gt "$stop_sent" ]; then
+    if [ "$stop_sent" = 0 ]; then
+      echo "demo: stopping: the driver disables animateBehaviour first"
+      # Before the driver has started, nothing is enabled: roslaunch stops everything.
+      rosnode kill /animateBehaviourDemo >/dev/null 2>&1 || interrupted=2
+    fi
+    stop_sent=$interrupted
+  fi
+  if [ "$stop_sent" -gt 1 ]; then  # a second Ctrl-C, or no driver yet; the node stops the robot itself
+    kill -INT "$launch_pid" 2>/dev/null || true  # repeated: roslaunch ignores it until its handler is set
+  fi
+  sleep 0.2 & wait $! || true
+done
+wait "$launch_pid" || true
+wait "$display_pid" || true
+trap - INT TERM
+
+if [ "$interrupted" -gt 0 ]; then
+  exit 130
+fi
+if [ ! -s "$outcome_file" ]; then
+  echo "demo: error: the demo's driver did not report how the run ended; see $launch_log"
+  exit 1
+fi
+read -r status reason < "$outcome_file"
+if [ "$status" = 130 ]; then  # the driver was stopped, not by Ctrl-C here: a required node of the launch ended
+  echo "demo: error: a node of the demo stopped before the end ($reason); see the lines above and $launch_log"
+  exit 1
+fi
+exit "$status"

@@ -1,16 +1,20 @@
-"""The README's demo command (tools/demo.sh, i.e. `make demo`) with a short duration: it exits 0,
-prints one line a second, leaves a valid PNG and recording, and no process it started survives."""
+"""The README's demo command (tools/demo.sh, i.e. `make demo`) with short durations: a plain run, a run with
+GESTURE=1 and a run stopped with Ctrl-C. Each leaves a valid PNG and recording, and no process it started
+survives."""
 import os
+import signal
 import socket
 import subprocess
 import sys
 import time
 
+import numpy
 import pytest
 
 REPO_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
-DEMO_DURATION = 5
+DEMO_DURATION = 4
+GESTURE_STATES = ("SUCCEEDED", "PREEMPTED", "ABORTED", "REJECTED", "RECALLED", "LOST")
 
 
 def workspace_sourced():
@@ -26,7 +30,7 @@ def workspace_sourced():
 pytestmark = pytest.mark.skipif(
     not workspace_sourced(),
     reason="the catkin workspace is not sourced (ROS_PACKAGE_PATH lacks cssr_system): "
-           "run `source .workspace/devel/setup.bash` after tools/build.sh, or the test command")
+           "run `source tools/common.sh && source_workspace` after tools/build.sh, or the test command")
 
 
 def free_port():
@@ -52,44 +56,121 @@ def processes_with(marker):
     return found
 
 
-def test_demo_command_runs_plots_and_leaves_nothing_behind(tmp_path):
+def run_demo(output_dir, interrupt_after=None, **options):
+    """Run tools/demo.sh in a process group of its own with DEMO_<option> settings; with `interrupt_after`,
+    send SIGINT to the group (as Ctrl-C in a terminal does) after the first output line holding that text.
+    Returns (exit status, output, seconds from the interrupt to the exit); fails when a process of the run
+    survives it (every process of the run inherits its unique ROS_MASTER_URI)."""
     master_uri = "http://localhost:%d" % free_port()
-    environment = dict(os.environ, DEMO_DURATION=str(DEMO_DURATION), DEMO_OUTPUT_DIR=str(tmp_path),
-                       DEMO_MASTER_URI=master_uri)
-    started = time.monotonic()
-    result = subprocess.run(["bash", os.path.join(REPO_DIR, "tools", "demo.sh")], cwd=REPO_DIR, env=environment,
+    environment = dict(os.environ, DEMO_OUTPUT_DIR=str(output_dir), DEMO_MASTER_URI=master_uri,
+                       **{"DEMO_" + key: str(value) for key, value in options.items()})
+    demo = subprocess.Popen(["bash", os.path.join(REPO_DIR, "tools", "demo.sh")], cwd=REPO_DIR, env=environment,
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True,
-                            timeout=240)
-    elapsed = time.monotonic() - started
-    output = result.stdout
+                            start_new_session=True)
+    lines, interrupted_at = [], None
+    deadline = time.monotonic() + 240
+    try:
+        for line in demo.stdout:
+            lines.append(line)
+            if interrupt_after is not None and interrupted_at is None and interrupt_after in line:
+                os.killpg(demo.pid, signal.SIGINT)
+                interrupted_at = time.monotonic()
+            if time.monotonic() > deadline:
+                break
+        status = demo.wait(timeout=max(1.0, deadline - time.monotonic()))
+    finally:
+        if demo.poll() is None:
+            os.killpg(demo.pid, signal.SIGKILL)
+    stop_time = time.monotonic() - interrupted_at if interrupted_at is not None else None
+    output = "".join(lines)
     sys.stdout.write(output)  # shown by pytest when the test fails
-    assert result.returncode == 0, "demo exited %d after %.0f s" % (result.returncode, elapsed)
 
-    # The ROS_MASTER_URI is unique to this run, and every process of it inherits it.
-    deadline = time.monotonic() + 3.0
+    settle = time.monotonic() + 3.0
     survivors = processes_with("ROS_MASTER_URI=" + master_uri)
-    while survivors and time.monotonic() < deadline:
+    while survivors and time.monotonic() < settle:
         time.sleep(0.2)
         survivors = processes_with("ROS_MASTER_URI=" + master_uri)
     assert survivors == [], "processes left running by the demo: %s" % survivors
+    return status, output, stop_time
 
-    status_lines = [line for line in output.splitlines() if " s  enabled " in line or " s  disabled " in line]
-    assert len(status_lines) >= DEMO_DURATION, "expected one line a second:\n" + output
-    assert any("arm" in line for line in status_lines if " enabled " in line), output
-    # Joints stop within the tail; the base may still be finishing its turn back to the start heading.
-    still_moving = status_lines[-1].split("moving:")[1].split("base heading")[0]
-    assert not any(part in still_moving for part in ("arm", "hand", "leg")), \
-        "the joints did not stop after disable:\n" + output
 
-    png_path = os.path.join(str(tmp_path), "animation.png")
-    assert "plot      " + png_path in output
+def status_lines(output):
+    return [line for line in output.splitlines() if " s  enabled " in line or " s  disabled " in line]
+
+
+def check_plot_and_recording(output, output_dir):
+    png_path = os.path.join(str(output_dir), "animation.png")
+    assert "plot      " + png_path in output.splitlines()[-1], "the plot's path is not the last line:\n" + output
     with open(png_path, "rb") as image:
         content = image.read()
     assert content.startswith(PNG_SIGNATURE)
     assert len(content) > 30 * 1024
-
     from cssr_system.animate_behaviour.recording.recording import read_recording  # after the skip: needs the workspace
-    recording = read_recording(os.path.join(str(tmp_path), "animation.json"))
+    return read_recording(os.path.join(str(output_dir), "animation.json"))
+
+
+def test_demo_runs_records_plots_and_leaves_nothing_behind(tmp_path):
+    status, output, _ = run_demo(tmp_path, DURATION=DEMO_DURATION)
+    assert status == 0, output
+
+    lines = status_lines(output)
+    assert len(lines) >= DEMO_DURATION + 2, "expected one line a second:\n" + output
+    assert any("arm" in line for line in lines if " enabled " in line), output
+    # Joints stop within the tail; the base may still be finishing its turn back to the start heading.
+    still_moving = lines[-1].split("moving:")[1].split("base heading")[0]
+    assert not any(part in still_moving for part in ("arm", "hand", "leg")), \
+        "the joints did not stop after disable:\n" + output
+
+    recording = check_plot_and_recording(output, tmp_path)
     assert [state for _, state in recording.activations] == ["enabled", "disabled"]
+    enabled_at, disabled_at = [moment for moment, _ in recording.activations]
+    assert DEMO_DURATION - 0.5 < disabled_at - enabled_at < DEMO_DURATION + 1.0
     assert recording.bands, "no joint bands found in the node's log"
     assert len(recording.times) > 50 * DEMO_DURATION * 0.8  # /joint_states at 50 Hz
+    assert recording.marks == ()  # no other node sent goals
+    commanded = recording.commanded
+    assert commanded is not None and commanded.source == "/animateBehaviour"
+    assert "RShoulderPitch" in commanded.joint_names
+    # The log stamps the enable when the node replies, just after it sent its first goals.
+    before = commanded.times < enabled_at - 0.5
+    assert numpy.any(before) and numpy.all(numpy.isnan(commanded.positions[before]))  # nothing before the enable
+    assert numpy.all(numpy.isfinite(commanded.positions[commanded.times > enabled_at + 0.5]))
+
+
+def test_demo_with_a_gesture_marks_it_and_prints_its_result(tmp_path):
+    status, output, _ = run_demo(tmp_path, DURATION=DEMO_DURATION, GESTURE=1)
+    assert status == 0, output
+    started = [line for line in output.splitlines() if "gesture on the right arm started" in line]
+    ended = [line for line in output.splitlines() if "gesture on the right arm ended after" in line]
+    assert len(started) == 1 and len(ended) == 1, output
+    result = ended[0].split(": ")[2].split()[0]
+    assert result in GESTURE_STATES, ended[0]
+
+    recording = check_plot_and_recording(output, tmp_path)
+    enabled_at = recording.activations[0][0]
+    assert len(recording.marks) == 1, recording.marks
+    mark = recording.marks[0]
+    assert mark.part == "RArm" and mark.label == "/animateBehaviourDemoGesture: " + result
+    assert DEMO_DURATION / 2.0 - 0.5 < mark.start - enabled_at < DEMO_DURATION / 2.0 + 1.5  # half-way
+    assert mark.start < mark.end <= mark.start + 4.0 + 1.0  # a 4 s gesture, or less when preempted
+
+
+def test_ctrl_c_disables_the_node_first_stops_everything_and_still_plots(tmp_path):
+    status, output, stop_time = run_demo(tmp_path, interrupt_after="   2 s  enabled", DURATION=60)
+    assert stop_time is not None, "the demo never printed its second line:\n" + output
+    assert status == 130, output
+    assert stop_time < 30.0, "the demo took %.0f s to stop after Ctrl-C" % stop_time
+    assert "animateBehaviour disabled" in output
+
+    recording = check_plot_and_recording(output, tmp_path)
+    assert [state for _, state in recording.activations] == ["enabled", "disabled"]
+    assert recording.activations[1][0] - recording.activations[0][0] < 20.0  # long before the 60 s
+
+    from cssr_system.animate_behaviour.event_log import read_log
+    events = [(entry.event, entry.fields) for entry in read_log(os.path.join(str(tmp_path),
+                                                                             "animateBehaviourLogFile.log"))]
+    names = [event for event, _ in events]
+    disabled = names.index("activation_request", names.index("activation_request") + 1)
+    assert events[disabled][1] == {"state": "disabled", "reply": "1"}
+    assert disabled < names.index("node_stopped"), "the node was stopped before it was disabled"
+    assert [fields["reason"] for event, fields in events if event == "behaviour_ended"] == ["disabled"]

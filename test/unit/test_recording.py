@@ -1,4 +1,5 @@
-"""Unit tests of the recording format and its plot: recording file round trip, bands, motion summary, plot."""
+"""Unit tests of the recording format and its plot: recording file round trip (with its optional fields),
+bands, activations, motion summary, plot; and of what a node commanded, rebuilt from its goals."""
 import json
 import math
 import os
@@ -11,15 +12,18 @@ from cssr_system.animate_behaviour.configuration import load_configuration, topi
 from cssr_system.animate_behaviour.contract import DISABLED, ENABLED
 from cssr_system.animate_behaviour.event_log import EventLog, read_log
 from cssr_system.animate_behaviour.motion.waypoints import joint_bounds
+from cssr_system.animate_behaviour.recording.commanded import (CancelRequest, GoalResult, SentGoal, commanded_by,
+                                                               controller_pieces, goal_marks)
 from cssr_system.animate_behaviour.recording.plot import plot_recording
-from cssr_system.animate_behaviour.recording.recording import (RECORDING_FORMAT, plotted_parts, JointBand,
-                                                               Recording, band_excess,
+from cssr_system.animate_behaviour.recording.recording import (RECORDING_FORMAT, plotted_parts, Commanded, JointBand,
+                                                               Mark, Recording, activations_from_log, band_excess,
                                                                bands_from_configuration, bands_from_log,
                                                                heading_excess, moving_parts, read_recording,
                                                                unwrap_heading, write_recording,
                                                                yaw_from_quaternion)
 from cssr_system.animate_behaviour.topics import load_topic_map
 from cssr_system.pepper.joint_table import JOINTS, PARTS
+from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline, TrajectoryPoint
 
 PACKAGE_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 CONFIG_FILE = os.path.join(PACKAGE_DIR, "config", "animateBehaviourConfiguration.ini")
@@ -183,3 +187,166 @@ def test_plot_without_bands_shows_the_parts_that_moved(tmp_path):
     output = plot_recording(recording, str(tmp_path / "bare.png"))
     with open(output, "rb") as image:
         assert image.read(8) == PNG_SIGNATURE
+
+
+# ---------------------------------------------------------------------------------------------------
+# Optional fields: commanded positions and marks.
+
+def with_optional_fields(recording):
+    names = ("RShoulderPitch", "RHand")
+    positions = numpy.column_stack([1.5 + 0.1 * numpy.sin(recording.times), numpy.full(len(recording.times), 0.6)])
+    positions[:10] = numpy.nan  # nothing commanded before the first goal
+    return recording._replace(
+        commanded=Commanded(names, recording.times.copy(), positions, "/animateBehaviour"),
+        marks=(Mark(4.0, 6.5, "/someNode: PREEMPTED", "RArm"), Mark(7.0, 7.5, "everywhere")))
+
+
+def test_optional_fields_round_trip_exactly(tmp_path):
+    recording = with_optional_fields(synthetic_run())
+    back = read_recording(write_recording(str(tmp_path / "run.json"), recording))
+    assert_same(recording, back)
+    assert back.commanded.joint_names == recording.commanded.joint_names
+    assert back.commanded.source == "/animateBehaviour"
+    numpy.testing.assert_array_equal(back.commanded.times, recording.commanded.times)
+    numpy.testing.assert_array_equal(back.commanded.positions, recording.commanded.positions)  # NaN kept
+    assert back.marks == recording.marks
+
+
+def test_recordings_without_optional_fields_stay_readable(tmp_path):
+    path = write_recording(str(tmp_path / "old.json"), synthetic_run())
+    with open(path, encoding="utf-8") as written:
+        data = json.load(written)
+    assert "commanded" not in data and "marks" not in data  # absent, as in files written before they existed
+    back = read_recording(path)
+    assert back.commanded is None and back.marks == ()
+
+
+def test_a_malformed_commanded_field_is_named(tmp_path):
+    recording = with_optional_fields(synthetic_run(duration=1.0))
+    path = write_recording(str(tmp_path / "bad.json"), recording)
+    with open(path, encoding="utf-8") as written:
+        data = json.load(written)
+    data["commanded"]["positions"][3] = [1.0]
+    (tmp_path / "bad.json").write_text(json.dumps(data))
+    with pytest.raises(ValueError, match=r"commanded.positions\[3\] has 1 values for 2 joints"):
+        read_recording(str(tmp_path / "bad.json"))
+
+
+def test_activations_come_from_accepted_requests_of_the_run(tmp_path):
+    log_path = str(tmp_path / "animateBehaviourLogFile.log")
+    clock = [1000.0]
+    with EventLog(log_path, clock=lambda: clock[0]) as log:
+        log.write(contract.ACTIVATION_REQUEST, state="enabled", reply="1")  # before the run
+        clock[0] = 1010.0
+        log.write(contract.ACTIVATION_REQUEST, state=" Enabled ", reply="1")
+        log.write(contract.ACTIVATION_REQUEST, state="dance", reply="0")
+        clock[0] = 1012.5
+        log.write(contract.ACTIVATION_REQUEST, state="enabled", reply="0")  # refused: no change
+        log.write(contract.ACTIVATION_REQUEST, state="disabled", reply="1")
+    assert activations_from_log(read_log(log_path), since=1005.0) == [(1010.0, ENABLED), (1012.5, DISABLED)]
+    assert activations_from_log(read_log(log_path), since=1005.0, until=1011.0) == [(1010.0, ENABLED)]
+
+
+def test_another_nodes_goal_excuses_the_excursion_it_causes():
+    recording = synthetic_run()
+    column = recording.joint_names.index("RShoulderPitch")
+    band = recording.bands["RShoulderPitch"]
+    away = (recording.times >= 4.0) & (recording.times < 7.0)  # moved out by the goal, back in at 7 s
+    recording.positions[away, column] = band.lower - 1.0
+    assert band_excess(recording, "RShoulderPitch") == pytest.approx(1.0)
+    marked = recording._replace(marks=(Mark(4.0, 6.0, "/someNode: SUCCEEDED", "RArm"),))
+    assert band_excess(marked, "RShoulderPitch") == 0.0
+    elsewhere = recording._replace(marks=(Mark(4.0, 6.0, "/someNode: SUCCEEDED", "LArm"),))
+    assert band_excess(elsewhere, "RShoulderPitch") == pytest.approx(1.0)
+    recording.positions[recording.times >= 9.5, column] = band.upper + 0.2  # later, by the node itself
+    assert band_excess(marked, "RShoulderPitch") == pytest.approx(0.2)
+
+
+def test_plot_with_commanded_lines_and_marks_is_a_png(tmp_path):
+    output = plot_recording(with_optional_fields(synthetic_run()), str(tmp_path / "full.png"))
+    with open(output, "rb") as image:
+        assert image.read(8) == PNG_SIGNATURE
+
+
+# ---------------------------------------------------------------------------------------------------
+# What a node commanded, rebuilt from the goals a controller received.
+
+ARM = PARTS["RArm"]
+NODE = "/animateBehaviour"
+
+
+def goal(time, caller, points, goal_id=None, joints=ARM.joints, part="RArm"):
+    return SentGoal(time, part, caller, goal_id or "%s-%g" % (caller, time), tuple(joints),
+                    tuple(TrajectoryPoint(t, tuple(p), (0.0,) * len(p), (0.0,) * len(p)) for t, p in points))
+
+
+def arm_pose(offset):
+    return tuple(centre + offset for centre in ARM.centre)
+
+
+def measured_rest(duration=10.0):
+    times = numpy.arange(0.0, duration, 0.02)
+    return ARM.joints, times, numpy.tile(ARM.centre, (len(times), 1))
+
+
+def sample(source, goals, cancels=(), times=None):
+    times = numpy.arange(0.0, 10.0, 0.01) if times is None else times
+    return times, commanded_by(source, controller_pieces(goals, cancels, measured_rest()), times)
+
+
+def test_a_goal_is_sampled_with_the_controllers_interpolation_from_the_measured_joints():
+    first = goal(1.0, NODE, [(1.0, arm_pose(0.1)), (2.0, arm_pose(-0.1))])
+    times, commanded = sample(NODE, [first])
+    assert commanded.joint_names == ARM.joints and commanded.source == NODE
+    assert numpy.all(numpy.isnan(commanded.positions[times < 1.0]))  # nothing commanded yet
+    expected = JointTrajectorySpline(ARM.centre, None, None, first.points, start_time=1.0)
+    during = (times >= 1.0) & (times <= 3.0)
+    for row in numpy.nonzero(during)[0][::20]:
+        numpy.testing.assert_allclose(commanded.positions[row], expected.sample(times[row])[0], atol=1e-12)
+    numpy.testing.assert_allclose(commanded.positions[-1], arm_pose(-0.1))  # held after the last point
+
+
+def test_a_new_goal_is_spliced_onto_the_motion_in_progress():
+    goals = [goal(1.0, NODE, [(2.0, arm_pose(0.3))]), goal(2.0, NODE, [(1.0, arm_pose(-0.2))])]
+    times, commanded = sample(NODE, goals)
+    column = ARM.joints.index("RShoulderPitch")
+    before, after = commanded.positions[times < 2.0][-1, column], commanded.positions[times >= 2.0][0, column]
+    assert abs(after - before) < 0.01  # continuous: the second starts where the first was
+    assert before > ARM.centre[column] + 0.05  # and the first was under way
+    numpy.testing.assert_allclose(commanded.positions[-1], arm_pose(-0.2))
+
+
+def test_another_nodes_goal_leaves_a_gap_and_the_next_goal_starts_from_it():
+    goals = [goal(1.0, NODE, [(1.0, arm_pose(0.1))]), goal(3.0, "/gesture", [(1.0, arm_pose(-0.5))]),
+             goal(5.0, NODE, [(1.0, arm_pose(0.1))])]
+    times, commanded = sample(NODE, goals)
+    gap = (times >= 3.0) & (times < 5.0)
+    assert numpy.all(numpy.isnan(commanded.positions[gap]))
+    assert numpy.all(numpy.isfinite(commanded.positions[times >= 5.0]))
+    numpy.testing.assert_allclose(commanded.positions[times >= 5.0][0], arm_pose(-0.5), atol=1e-9)
+    gesture = sample("/gesture", goals)[1]
+    assert numpy.all(numpy.isfinite(gesture.positions[gap])) and numpy.all(numpy.isnan(gesture.positions[times < 3.0]))
+
+
+def test_a_cancel_holds_the_position_reached():
+    first = goal(1.0, NODE, [(2.0, arm_pose(0.4))], goal_id="g1")
+    times, commanded = sample(NODE, [first], [CancelRequest(2.0, "RArm", "g1")])
+    reached = JointTrajectorySpline(ARM.centre, None, None, first.points, start_time=1.0).sample(2.0)[0]
+    numpy.testing.assert_allclose(commanded.positions[-1], reached)
+    assert not numpy.allclose(reached, arm_pose(0.4))
+    unrelated = sample(NODE, [first], [CancelRequest(2.0, "RArm", "other")])[1]
+    numpy.testing.assert_allclose(unrelated.positions[-1], arm_pose(0.4))
+
+
+def test_goals_the_controller_rejects_are_skipped():
+    wrong_joints = goal(1.0, NODE, [(1.0, arm_pose(0.1)[:4])], joints=ARM.joints[:4])
+    backwards = goal(2.0, NODE, [(1.0, arm_pose(0.1)), (0.5, arm_pose(0.2))])
+    assert commanded_by(NODE, controller_pieces([wrong_joints, backwards]), [0.0, 5.0]) is None
+
+
+def test_other_nodes_goals_become_marks_from_receipt_to_result():
+    goals = [goal(1.0, NODE, [(1.0, arm_pose(0.1))]), goal(3.0, "/gesture", [(4.0, arm_pose(0.2))], "g"),
+             goal(8.0, "/other", [(4.0, arm_pose(0.2))], "h", part="LArm")]
+    results = [GoalResult(2.0, "RArm", "/animateBehaviour-1", "SUCCEEDED"), GoalResult(5.0, "RArm", "g", "PREEMPTED")]
+    expected = (Mark(3.0, 5.0, "/gesture: PREEMPTED", "RArm"), Mark(8.0, 9.0, "/other: no result", "LArm"))
+    assert goal_marks(goals, results, NODE, end=9.0) == expected

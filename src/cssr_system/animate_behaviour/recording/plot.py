@@ -1,9 +1,11 @@
 """The plot of a recorded run, and the plotAnimation command.
 
 The plot (`plot_recording`, matplotlib's Agg backend, a PNG): one panel per animated part (each
-joint a line, its allowed band [lower, upper] shaded in the line's colour), one panel of the base
-heading with its bound around the heading at enable, and the enable/disable instants as vertical
-lines in every panel. Each panel's title says whether every sample stayed in its band.
+joint a line, its allowed band [lower, upper] shaded in the line's colour, and, when the recording
+has it, what the node commanded as a dashed line of the same colour), one panel of the base heading
+with its bound around the heading at enable, the enable/disable instants as vertical lines in every
+panel, and the recording's marks (e.g. another node's goal) as labelled grey spans in their part's
+panel. Each panel's title says whether every measured sample stayed in its band.
 
 Pure Python, numpy and matplotlib: no ROS import.
 """
@@ -12,7 +14,7 @@ import datetime
 import math
 import os
 import sys
-from typing import Any, Optional, Sequence
+from typing import Any, Optional, Sequence, Tuple
 
 from cssr_system.animate_behaviour.contract import ENABLED
 from cssr_system.animate_behaviour.recording.recording import (BAND_TOLERANCE, Recording, heading_at_time,
@@ -20,6 +22,7 @@ from cssr_system.animate_behaviour.recording.recording import (BAND_TOLERANCE, R
                                                                heading_excess, plotted_parts,
                                                                bands_from_configuration_file, bands_from_log,
                                                                read_recording)
+from cssr_system.pepper.joint_table import PARTS
 
 
 def _title_of(recording: Recording) -> str:
@@ -38,6 +41,29 @@ def _draw_activations(axis: Any, recording: Recording) -> None:
             axis.axvline(time, color="tab:red", linewidth=1.6, linestyle="--")
 
 
+def _darker(colour: str) -> Tuple[float, float, float]:
+    from matplotlib.colors import to_rgb
+    return tuple(0.55 * channel for channel in to_rgb(colour))
+
+
+MARK_COLOUR = "tab:purple"
+MARK_ALPHA = 0.14
+
+
+def _draw_marks(axis: Any, recording: Recording, part_keys: Sequence[str]) -> None:
+    """The marks of these parts (and those of every panel) as shaded spans, labelled at the top."""
+    for mark in recording.marks:
+        if mark.part and mark.part not in part_keys:
+            continue
+        axis.axvspan(mark.start, max(mark.end, mark.start + 0.05), color=MARK_COLOUR, alpha=MARK_ALPHA, linewidth=0)
+        axis.axvline(mark.start, color=MARK_COLOUR, linewidth=1.0, alpha=0.8)
+        axis.axvline(mark.end, color=MARK_COLOUR, linewidth=1.0, alpha=0.8, linestyle=":")
+        axis.annotate(mark.label, xy=(mark.start, 0.0), xycoords=("data", "axes fraction"),
+                      xytext=(3, 3), textcoords="offset points", ha="left", va="bottom", fontsize=8,
+                      color=MARK_COLOUR, bbox=dict(boxstyle="round,pad=0.2", facecolor="white", alpha=0.8,
+                                                   edgecolor="none"))
+
+
 def time_origin(recording: Recording) -> float:
     """Time shown as 0 in the plot: the first enable, else the start of the recording."""
     enables = [time for time, state in recording.activations if state == ENABLED]
@@ -53,9 +79,14 @@ def plot_recording(recording: Recording, output_path: str, title: Optional[str] 
     from matplotlib.patches import Patch
 
     origin = time_origin(recording)
+    commanded = recording.commanded
     shifted = recording._replace(times=recording.times - origin,
                                  heading_times=recording.heading_times - origin,
-                                 activations=tuple((time - origin, state) for time, state in recording.activations))
+                                 activations=tuple((time - origin, state) for time, state in recording.activations),
+                                 commanded=None if commanded is None else commanded._replace(
+                                     times=commanded.times - origin),
+                                 marks=tuple(mark._replace(start=mark.start - origin, end=mark.end - origin)
+                                             for mark in recording.marks))
     parts = plotted_parts(shifted)
     panels = len(parts) + 1  # the base heading last
     columns = 2 if panels > 3 else 1
@@ -65,7 +96,9 @@ def plot_recording(recording: Recording, output_path: str, title: Optional[str] 
     flat_axes = [axis for row in axes for axis in row]
     colours = pyplot.rcParams["axes.prop_cycle"].by_key()["color"]
     for index, (label, joints) in enumerate(parts):
-        _plot_part(flat_axes[index], shifted, label, joints, colours)
+        part_keys = [key for key, part in PARTS.items() if part.joints == joints]
+        _plot_part(flat_axes[index], shifted, label, joints, colours, part_keys)
+        _draw_marks(flat_axes[index], shifted, part_keys)
     _plot_heading(flat_axes[len(parts)], shifted)
     for axis in flat_axes[panels:]:
         axis.set_visible(False)
@@ -82,9 +115,16 @@ def plot_recording(recording: Recording, output_path: str, title: Optional[str] 
            Line2D([], [], color="tab:red", linewidth=1.6, linestyle="--", label="disabled"),
            Patch(facecolor="grey", alpha=0.25, label="allowed band of the joint of the same colour"),
            Line2D([], [], color="grey", linewidth=0.8, linestyle=":", label="band edges; alone: joint held")]
-    figure.legend(handles=key, loc="upper center", ncol=4, fontsize=9, frameon=False,
-                  bbox_to_anchor=(0.5, 0.965))
-    figure.tight_layout(rect=(0, 0, 1, 0.94))
+    if recording.commanded is not None:
+        source = recording.commanded.source or "the node"
+        key.append(Line2D([], [], color="grey", linewidth=1.1, linestyle="--",
+                          label="commanded by %s (dashed, darker shade of the joint's colour)" % source))
+    if recording.marks:
+        key.append(Patch(facecolor=MARK_COLOUR, alpha=MARK_ALPHA, label="another node's goal (label: sender, result)"))
+    key_rows = 1 if len(key) <= 4 else 2
+    figure.legend(handles=key, loc="upper center", ncol=int(math.ceil(len(key) / float(key_rows))), fontsize=9,
+                  frameon=False, bbox_to_anchor=(0.5, 0.965))
+    figure.tight_layout(rect=(0, 0, 1, 0.94 - 0.02 * (key_rows - 1)))
     output_path = os.path.abspath(output_path)
     os.makedirs(os.path.dirname(output_path), exist_ok=True)
     figure.savefig(output_path, dpi=100)
@@ -93,7 +133,7 @@ def plot_recording(recording: Recording, output_path: str, title: Optional[str] 
 
 
 def _plot_part(axis: Any, recording: Recording, label: str, joints: Sequence[str],
-               colours: Sequence[str]) -> None:
+               colours: Sequence[str], part_keys: Sequence[str]) -> None:
     worst_joint, worst = "", 0.0
     for index, name in enumerate(joints):
         colour = colours[index % len(colours)]
@@ -108,12 +148,19 @@ def _plot_part(axis: Any, recording: Recording, label: str, joints: Sequence[str
             values = recording.positions[:, recording.joint_names.index(name)]
             shown = name + ("" if band is None or band.moving else " (held)")
             axis.plot(recording.times, values, color=colour, linewidth=1.3, label=shown)
+        commanded = recording.commanded
+        if commanded is not None and name in commanded.joint_names:
+            # Darker than the measured line, so it stays visible where the two coincide.
+            axis.plot(commanded.times, commanded.positions[:, commanded.joint_names.index(name)],
+                      color=_darker(colour), linewidth=1.0, linestyle=(0, (4, 3)))
         excess = band_excess(recording, name)
         if excess > worst:
             worst_joint, worst = name, excess
     _draw_activations(axis, recording)
     verdict = "every joint within its band" if worst <= BAND_TOLERANCE else \
         "%s %.3f beyond its band" % (worst_joint, worst)
+    if any(mark.part in part_keys for mark in recording.marks):
+        verdict += " (another node's goals aside)"
     axis.set_title("%s: %s" % (label, verdict), fontsize=11,
                    color="black" if worst <= BAND_TOLERANCE else "tab:red")
     hand = all(name.endswith("Hand") for name in joints)

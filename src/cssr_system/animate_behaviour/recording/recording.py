@@ -1,8 +1,10 @@
 """Recorded runs of animateBehaviour: the recording file, the allowed bands, motion summaries.
 
 A recording is what the robot (simulated or real) actually did during a run: every joint over time
-from ``/joint_states``, the base heading from odometry, and when the node was enabled and disabled.
-``scripts/animateBehaviourDemo.py`` writes one; ``scripts/plotAnimation.py`` plots any of them.
+from ``/joint_states``, the base heading from odometry, and when the node was enabled and disabled;
+optionally what the node commanded and labelled intervals such as another node's goals.
+``scripts/animateBehaviourRecorder.py`` (`recorder_node`) writes one; ``scripts/plotAnimation.py``
+plots any of them.
 
 Recording file format: one UTF-8 JSON object (extension ``.json``)::
 
@@ -19,16 +21,30 @@ Recording file format: one UTF-8 JSON object (extension ``.json``)::
       },
       "heading": {"topic": "/pepper_dcm/odom", "times": [...], "values": [...]},  # rad, unwrapped
       "bands": {"RShoulderPitch": {"lower": 1.33, "upper": 1.75, "centre": 1.54, "moving": true}, ...},
-      "heading_bound": 0.3                     # rad either side of the heading at enable; null: none
+      "heading_bound": 0.3,                    # rad either side of the heading at enable; null: none
+      "commanded": {                           # optional: what one node commanded the controllers
+        "source": "/animateBehaviour",         # that node
+        "joints": ["RShoulderPitch", ...],     # column names
+        "times": [0.0, 0.02, ...],             # s since time 0, increasing
+        "positions": [[null, ...], [1.54, ...], ...]   # null: nothing of that node in effect
+      },
+      "marks": [                               # optional: labelled intervals, e.g. another node's goal
+        {"start": 5.1, "end": 9.1, "part": "RArm", "label": "/someNode goal: SUCCEEDED"}
+      ]
     }
 
 Times are seconds relative to ``start_epoch``. ``bands`` holds the joints the node animated (a
 joint with ``moving`` false is held at its centre) and may be empty; ``heading_bound`` is null when
-the base was not animated. Floats are written exactly (Python's shortest repr).
+the base was not animated. ``commanded`` and ``marks`` may be absent (recordings written before
+they existed have neither; readers that do not know them ignore them): ``commanded`` is the
+position the controller was told to be at, at every time, by the ``source`` node (`commanded`
+module); a mark's ``part`` is a key of ``joint_table.PARTS`` (its panel in the plot) or "" (every
+panel). Floats are written exactly (Python's shortest repr).
 
 Bands of a run come from the node's log file (``goal_sent`` entries: ``lower``/``upper`` per joint,
 see `bands_from_log`) when it is available, else from the configuration with
-``motion_plan.joint_bounds`` (`bands_from_configuration`).
+``motion_plan.joint_bounds`` (`bands_from_configuration`). The enable and disable instants come
+from the log's ``activation_request`` entries (`activations_from_log`).
 
 Pure Python and numpy: no ROS import.
 """
@@ -50,6 +66,11 @@ RECORDING_FORMAT = "cssr_system/animation-recording"
 
 
 RECORDING_VERSION = 1
+
+
+# File names of a recorder's output folder.
+RECORDING_FILE_NAME = "animation.json"
+PLOT_FILE_NAME = "animation.png"
 
 
 BASE_LABEL = "base"
@@ -87,6 +108,26 @@ class Recording(NamedTuple):
     heading_bound: Optional[float] = None
     info: Mapping[str, str] = {}
     heading_topic: str = ""
+    commanded: Optional["Commanded"] = None
+    marks: Tuple["Mark", ...] = ()
+
+
+class Commanded(NamedTuple):
+    """What one node commanded the controllers over time (optional field ``commanded``)."""
+
+    joint_names: Tuple[str, ...]
+    times: numpy.ndarray  # (K,) s since start_epoch
+    positions: numpy.ndarray  # (K, len(joint_names)); NaN where no command of `source` was in effect
+    source: str = ""  # the node that commanded
+
+
+class Mark(NamedTuple):
+    """A labelled interval of a run (optional field ``marks``), e.g. another node's goal on a part."""
+
+    start: float  # s since start_epoch
+    end: float
+    label: str
+    part: str = ""  # key of joint_table.PARTS whose panel shows it; "": every panel
 
 
 def _number_or_none(value: float) -> Optional[float]:
@@ -95,7 +136,7 @@ def _number_or_none(value: float) -> Optional[float]:
 
 def recording_to_json(recording: Recording) -> Dict[str, Any]:
     """The JSON object of the file format."""
-    return OrderedDict([
+    data = OrderedDict([
         ("format", RECORDING_FORMAT),
         ("version", RECORDING_VERSION),
         ("start_epoch", float(recording.start_epoch)),
@@ -117,6 +158,18 @@ def recording_to_json(recording: Recording) -> Dict[str, Any]:
                               for name, band in recording.bands.items())),
         ("heading_bound", recording.heading_bound),
     ])
+    if recording.commanded is not None:
+        commanded = recording.commanded
+        data["commanded"] = OrderedDict([
+            ("source", commanded.source),
+            ("joints", list(commanded.joint_names)),
+            ("times", [float(time) for time in commanded.times]),
+            ("positions", [[_number_or_none(value) for value in row] for row in commanded.positions]),
+        ])
+    if recording.marks:
+        data["marks"] = [OrderedDict([("start", float(mark.start)), ("end", float(mark.end)), ("part", mark.part),
+                                      ("label", mark.label)]) for mark in recording.marks]
+    return data
 
 
 def write_recording(path: str, recording: Recording) -> str:
@@ -139,6 +192,29 @@ def _array(values: Any, what: str, source: str) -> numpy.ndarray:
         raise ValueError("%s: %s must be a list of numbers" % (source, what)) from None
 
 
+def _table(section: Any, name: str, source: str) -> Tuple[Tuple[str, ...], numpy.ndarray, numpy.ndarray]:
+    """(joints, times, positions) of a ``{"joints", "times", "positions"}`` section of the file."""
+    names = tuple(str(joint) for joint in section["joints"])
+    times = _array(section["times"], name + ".times", source)
+    rows = section["positions"]
+    if len(rows) != len(times):
+        raise ValueError("%s: %s has %d times but %d rows of positions" % (source, name, len(times), len(rows)))
+    positions = numpy.full((len(times), len(names)), numpy.nan)
+    for index, row in enumerate(rows):
+        if len(row) != len(names):
+            raise ValueError("%s: %s.positions[%d] has %d values for %d joints"
+                             % (source, name, index, len(row), len(names)))
+        positions[index] = _array(row, "%s.positions[%d]" % (name, index), source)
+    return names, times, positions
+
+
+def _commanded_from_json(section: Any, source: str) -> Optional[Commanded]:
+    if section is None:
+        return None
+    names, times, positions = _table(section, "commanded", source)
+    return Commanded(names, times, positions, str(section.get("source") or ""))
+
+
 def recording_from_json(data: Any, source: str = "recording") -> Recording:
     """The recording of a parsed JSON object; ValueError naming `source` and the field if invalid."""
     if not isinstance(data, dict) or data.get("format") != RECORDING_FORMAT:
@@ -148,19 +224,7 @@ def recording_from_json(data: Any, source: str = "recording") -> Recording:
         raise ValueError("%s: unsupported recording version %r (this tool reads version %d)"
                          % (source, data.get("version"), RECORDING_VERSION))
     try:
-        joint_states = data["joint_states"]
-        names = tuple(str(name) for name in joint_states["joints"])
-        times = _array(joint_states["times"], "joint_states.times", source)
-        rows = joint_states["positions"]
-        if len(rows) != len(times):
-            raise ValueError("%s: joint_states has %d times but %d rows of positions"
-                             % (source, len(times), len(rows)))
-        positions = numpy.full((len(times), len(names)), numpy.nan)
-        for index, row in enumerate(rows):
-            if len(row) != len(names):
-                raise ValueError("%s: joint_states.positions[%d] has %d values for %d joints"
-                                 % (source, index, len(row), len(names)))
-            positions[index] = _array(row, "joint_states.positions[%d]" % index, source)
+        names, times, positions = _table(data["joint_states"], "joint_states", source)
         heading = data.get("heading") or {}
         heading_times = _array(heading.get("times", []), "heading.times", source)
         headings = _array(heading.get("values", []), "heading.values", source)
@@ -190,6 +254,9 @@ def recording_from_json(data: Any, source: str = "recording") -> Recording:
             heading_bound=None if bound is None else float(bound),
             info=OrderedDict((str(key), str(value)) for key, value in (data.get("info") or {}).items()),
             heading_topic=str(heading.get("topic", "")),
+            commanded=_commanded_from_json(data.get("commanded"), source),
+            marks=tuple(sorted(Mark(float(mark["start"]), float(mark["end"]), str(mark["label"]),
+                                    str(mark.get("part") or "")) for mark in data.get("marks") or [])),
         )
     except KeyError as error:
         raise ValueError("%s: missing field %s" % (source, error)) from None
@@ -259,19 +326,72 @@ def bands_from_log(entries: Iterable[Any], since: Optional[float] = None,
     return bands, heading_bound
 
 
-def bands_from_configuration_file(config_file: str, overrides: Optional[Dict[str, str]] = None
-                                  ) -> Tuple["OrderedDict[str, JointBand]", Optional[float]]:
-    """The joint bands and the heading bound (None without rotation) of a configuration file, with
-    `overrides` of its keys (e.g. platform, behaviour); ValueError with one line when it is invalid."""
+def activations_from_log(entries: Iterable[Any], since: Optional[float] = None,
+                         until: Optional[float] = None) -> List[Tuple[float, str]]:
+    """(epoch, ENABLED or DISABLED) of every accepted activation request of the node's log entries
+    (``activation_request`` with the success reply) between the epochs `since` and `until`."""
+    found = []
+    for entry in entries:
+        if entry.event != contract.ACTIVATION_REQUEST or not _in_window(entry.timestamp, since, until):
+            continue
+        if entry.fields.get("reply") != contract.REPLY_SUCCESS:
+            continue
+        state = contract.parse_activation_state(str(entry.fields.get("state", "")))
+        if state is not None:
+            found.append((entry.timestamp.timestamp(), state))
+    return found
+
+
+def configuration_and_topics(config_file: str, overrides: Optional[Mapping[str, Any]] = None) -> Tuple[Any, Any]:
+    """(configuration, topics of its platform: part key -> action namespace or topic) of a
+    configuration file with `overrides` of its keys; ValueError with one line when either is invalid."""
     from cssr_system.animate_behaviour.configuration import ConfigurationError, load_configuration, topic_file_path
     from cssr_system.animate_behaviour.topics import TopicFileError, load_topic_map
     try:
         config = load_configuration(config_file, overrides)
-        parts = load_topic_map(topic_file_path(config)).topics
+        return config, load_topic_map(topic_file_path(config)).topics
     except (ConfigurationError, TopicFileError) as error:
         raise ValueError(str(error)) from None
+
+
+def bands_from_configuration_file(config_file: str, overrides: Optional[Dict[str, str]] = None
+                                  ) -> Tuple["OrderedDict[str, JointBand]", Optional[float]]:
+    """The joint bands and the heading bound (None without rotation) of a configuration file, with
+    `overrides` of its keys (e.g. platform, behaviour); ValueError with one line when it is invalid."""
+    config, parts = configuration_and_topics(config_file, overrides)
     heading_bound = config.heading_bound if "rotation" in config.behaviour else None
     return bands_from_configuration(config, parts), heading_bound
+
+
+class RunSetting(NamedTuple):
+    """What a run of the node uses, as the node resolves it from its private parameters."""
+
+    config_file: str
+    log_file: str
+    platform: str
+    behaviour: str
+    topics: Mapping[str, str]  # part key (and Wheels) -> action namespace or topic
+
+
+# The node's private parameters that decide its platform and topics (the others cannot change them).
+SETTING_KEYS = ("platform", "behaviour")
+
+
+def run_setting(node_parameters: Mapping[str, Any], ros_home: Optional[str]) -> RunSetting:
+    """The setting of the node run with `node_parameters` (its private parameters, names without
+    its namespace: ``configFile``, ``logFile``, configuration keys), with the node's defaults;
+    ValueError with one line when its configuration or topic file cannot be read."""
+    from cssr_system.animate_behaviour.configuration import (PLATFORM_TOPICS_KEYS, configuration_items,
+                                                             shipped_configuration_path)
+    from cssr_system.animate_behaviour.event_log import default_log_path
+    from cssr_system.package_files import package_dir
+    config_file = os.path.abspath(str(node_parameters.get("configFile") or shipped_configuration_path()))
+    log_file = os.path.abspath(str(node_parameters.get("logFile") or default_log_path(package_dir(), ros_home)))
+    keys = SETTING_KEYS + tuple(PLATFORM_TOPICS_KEYS.values())
+    overrides = {key: node_parameters[key] for key in keys if key in node_parameters}
+    config, topics = configuration_and_topics(config_file, overrides)
+    items = configuration_items(config)
+    return RunSetting(config_file, log_file, items["platform"], items["behaviour"], topics)
 
 
 def bands_from_configuration(config: Any, available_parts: Iterable[str]) -> "OrderedDict[str, JointBand]":
@@ -334,15 +454,39 @@ def enabled_intervals(recording: Recording) -> List[Tuple[float, float]]:
 
 
 def band_excess(recording: Recording, joint_name: str) -> float:
-    """How far the joint went outside its band at worst (0.0: always inside; rad or hand units)."""
+    """How far the joint went outside its band at worst (0.0: always inside; rad or hand units),
+    not counting where another node moved it: during a mark of the joint's part, and after it until
+    the joint is back inside its band (`other_node_samples`)."""
     band = recording.bands.get(joint_name)
     if band is None or joint_name not in recording.joint_names:
         return 0.0
     values = recording.positions[:, recording.joint_names.index(joint_name)]
-    values = values[numpy.isfinite(values)]
+    values = values[numpy.isfinite(values) & ~other_node_samples(recording, joint_name)]
     if len(values) == 0:
         return 0.0
     return float(max(0.0, numpy.max(values) - band.upper, band.lower - numpy.min(values)))
+
+
+def other_node_samples(recording: Recording, joint_name: str) -> numpy.ndarray:
+    """Which samples of the joint (a mask over ``recording.times``) another node's motion explains:
+    those during a mark of its part, and those after the mark until the joint is inside its band."""
+    excused = numpy.zeros(len(recording.times), dtype=bool)
+    band = recording.bands.get(joint_name)
+    part = next((key for key, part in PARTS.items() if joint_name in part.joints), None)
+    if band is None or part is None or joint_name not in recording.joint_names:
+        return excused
+    values = recording.positions[:, recording.joint_names.index(joint_name)]
+    with numpy.errstate(invalid="ignore"):
+        inside = (values >= band.lower - BAND_TOLERANCE) & (values <= band.upper + BAND_TOLERANCE)
+    for mark in recording.marks:
+        if mark.part != part:
+            continue
+        excused |= (recording.times >= mark.start) & (recording.times <= mark.end)
+        after = numpy.nonzero(recording.times > mark.end)[0]
+        if len(after):
+            back = after[inside[after]]
+            excused[after[0]:back[0] if len(back) else len(excused)] = True
+    return excused
 
 
 def heading_excess(recording: Recording) -> float:

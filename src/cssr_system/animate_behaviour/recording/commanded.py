@@ -1,0 +1,180 @@
+"""What a node commanded the joint controllers, rebuilt from the goals the controllers received.
+
+A FollowJointTrajectory controller (joint_trajectory_controller, and the simulated Pepper that
+behaves like it) executes one goal at a time: a new goal is spliced onto the motion in progress (its
+first segment starts from the controller's state at that moment), a cancel holds the position
+reached, and after its last point the controller holds the last position. `controller_pieces` replays
+the goals and cancels of every controller in the order they were received, with the package's model
+of the controller's interpolation (`cssr_system.pepper.trajectory_interpolation`), so velocities and
+accelerations of the points count as they do on the controller. `commanded_by` samples the pieces of
+one node at given times: the position that node told the controller to be at, NaN while another
+node's goal (or nothing) was in effect. `goal_marks` turns the goals of other nodes into labelled
+intervals of the recording (from receipt to result).
+
+Goals whose joints are not exactly the controller's, or whose times do not increase, are rejected by
+the controller and skipped here. A goal's trajectory is taken to start when it was received (the
+package's node and the demo's gesture player send a zero stamp: "start now").
+
+Pure Python and numpy: no ROS import.
+"""
+from collections import OrderedDict
+from typing import Dict, Iterable, List, NamedTuple, Optional, Sequence, Tuple
+
+import numpy
+
+from cssr_system.animate_behaviour.recording.recording import Commanded, Mark
+from cssr_system.pepper.joint_table import PARTS
+from cssr_system.pepper.trajectory_interpolation import (JointTrajectorySpline, TrajectoryError, TrajectoryPoint,
+                                                         sample_trajectory)
+
+
+class SentGoal(NamedTuple):
+    """A goal as a controller received it."""
+
+    time: float  # when it was received (s, on the recording's clock)
+    part: str  # key of joint_table.PARTS
+    caller: str  # the node that sent it, e.g. "/animateBehaviour"
+    goal_id: str
+    joint_names: Tuple[str, ...]
+    points: Tuple[TrajectoryPoint, ...]
+
+
+class CancelRequest(NamedTuple):
+    """A cancel as a controller received it (actionlib_msgs/GoalID)."""
+
+    time: float
+    part: str
+    goal_id: str  # "": every goal sent at or before `stamp` (every goal when `stamp` is 0)
+    stamp: float = 0.0
+
+
+class GoalResult(NamedTuple):
+    """The end of a goal as its controller reported it."""
+
+    time: float
+    part: str
+    goal_id: str
+    state: str  # actionlib's terminal state: SUCCEEDED, PREEMPTED, ABORTED, REJECTED, ...
+
+
+class Piece(NamedTuple):
+    """What a controller executes from `start` until the next piece of the same controller."""
+
+    start: float
+    caller: str
+    goal_id: str
+    joint_names: Tuple[str, ...]
+    spline: Optional[JointTrajectorySpline]  # None: holds `held`
+    held: Optional[numpy.ndarray]
+
+
+Measured = Tuple[Sequence[str], numpy.ndarray, numpy.ndarray]  # (joint names, times, positions (N, J))
+
+
+def _measured_at(measured: Optional[Measured], joints: Sequence[str], time: float) -> numpy.ndarray:
+    """Positions of `joints` at `time` from the measured joint states (nearest sample before or at
+    it, else the first); a joint never measured is at its part's rest centre."""
+    centres = {name: centre for part in PARTS.values() for name, centre in zip(part.joints, part.centre)}
+    result = numpy.array([centres.get(name, 0.0) for name in joints], dtype=float)
+    if measured is None or len(measured[1]) == 0:
+        return result
+    names, times, positions = measured
+    row = max(0, int(numpy.searchsorted(times, time, side="right")) - 1)
+    for index, name in enumerate(joints):
+        if name in names:
+            value = positions[row, list(names).index(name)]
+            if numpy.isfinite(value):
+                result[index] = value
+    return result
+
+
+def _state_of(piece: Piece, joints: Sequence[str], time: float) -> Tuple[numpy.ndarray, ...]:
+    """(positions, velocities, accelerations) of `joints` that `piece` commands at `time`."""
+    order = [piece.joint_names.index(name) for name in joints]
+    if piece.spline is None:
+        zeros = numpy.zeros(len(joints))
+        return piece.held[order], zeros, zeros
+    return tuple(numpy.asarray(values)[order] for values in piece.spline.sample(time))
+
+
+def _cancels(request: CancelRequest, piece: Piece) -> bool:
+    if request.goal_id:
+        return request.goal_id == piece.goal_id
+    return request.stamp == 0.0 or piece.start <= request.stamp
+
+
+def controller_pieces(goals: Iterable[SentGoal], cancels: Iterable[CancelRequest] = (),
+                      measured: Optional[Measured] = None) -> Dict[str, List[Piece]]:
+    """Per part key, the pieces its controller executed, in time order. A goal received while the
+    controller executes nothing starts from the measured joints (`measured`), at rest."""
+    events = sorted([(goal.time, 0, goal) for goal in goals] + [(cancel.time, 1, cancel) for cancel in cancels],
+                    key=lambda event: (event[0], event[1]))
+    pieces = OrderedDict()  # type: Dict[str, List[Piece]]
+    for time, _, event in events:
+        if event.part not in PARTS:
+            continue
+        current = pieces.get(event.part, [None])[-1]
+        if isinstance(event, CancelRequest):
+            if current is not None and current.spline is not None and _cancels(event, current):
+                held = _state_of(current, current.joint_names, time)[0]
+                pieces[event.part].append(Piece(time, current.caller, current.goal_id, current.joint_names,
+                                                None, held))
+            continue
+        joints = tuple(event.joint_names)
+        if sorted(joints) != sorted(PARTS[event.part].joints):
+            continue  # the controller rejects it (INVALID_JOINTS)
+        if current is None:
+            zeros = numpy.zeros(len(joints))
+            start = (_measured_at(measured, joints, time), zeros, zeros)
+        else:
+            start = _state_of(current, joints, time)
+        try:
+            spline = JointTrajectorySpline(start[0], start[1], start[2], event.points, start_time=time)
+        except TrajectoryError:
+            continue  # the controller rejects it (INVALID_GOAL)
+        pieces.setdefault(event.part, []).append(Piece(time, event.caller, event.goal_id, joints, spline, None))
+    return pieces
+
+
+def commanded_by(source: str, pieces: Dict[str, List[Piece]], times: Sequence[float]) -> Optional[Commanded]:
+    """The positions `source` commanded at `times`, for every joint of the parts it sent a goal to
+    (``PARTS`` order); None when it sent none."""
+    times = numpy.asarray(times, dtype=float).reshape(-1)
+    parts = [key for key in PARTS if any(piece.caller == source for piece in pieces.get(key, ()))]
+    if not parts:
+        return None
+    joint_names = tuple(name for key in parts for name in PARTS[key].joints)
+    positions = numpy.full((len(times), len(joint_names)), numpy.nan)
+    column = 0
+    for key in parts:
+        joints = PARTS[key].joints
+        part_pieces = pieces[key]
+        which = numpy.searchsorted([piece.start for piece in part_pieces], times, side="right") - 1
+        for index, piece in enumerate(part_pieces):
+            rows = which == index
+            if piece.caller != source or not numpy.any(rows):
+                continue
+            order = [piece.joint_names.index(name) for name in joints]
+            if piece.spline is None:
+                positions[rows, column:column + len(joints)] = piece.held[order]
+            else:
+                positions[rows, column:column + len(joints)] = sample_trajectory(piece.spline, times[rows])[0][:, order]
+        column += len(joints)
+    return Commanded(joint_names, times, positions, source)
+
+
+def goal_marks(goals: Iterable[SentGoal], results: Iterable[GoalResult], exclude_caller: str,
+               end: float) -> Tuple[Mark, ...]:
+    """A mark for every goal not sent by `exclude_caller`: from its receipt to its result (or
+    `end` when none came), labelled with the sender and the final state."""
+    results = sorted(results, key=lambda result: result.time)
+    marks = []
+    for goal in sorted(goals, key=lambda goal: goal.time):
+        if goal.caller == exclude_caller:
+            continue
+        result = next((result for result in results
+                       if result.goal_id == goal.goal_id and result.time >= goal.time), None)
+        state = result.state if result is not None else "no result"
+        finish = result.time if result is not None else max(end, goal.time)
+        marks.append(Mark(goal.time, finish, "%s: %s" % (goal.caller, state), goal.part))
+    return tuple(marks)
