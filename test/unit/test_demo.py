@@ -64,3 +64,12 @@ def test_the_live_line_names_what_moved_in_its_window():
     assert len(line.split("moving: ")[1].split("  base")[0]) >= MOVING_COLUMN_WIDTH - 1
     still = status_line(8, "disabled", joint_names, positions[:1], headings, None)
     assert "moving: nothing" in still and still.endswith("base heading: no odometry")
+
+
+def test_the_live_line_says_which_parts_yield_and_to_whom():
+    names = ("RShoulderPitch",)
+    positions = numpy.array([[1.5], [1.5]])
+    line = status_line(9, "enabled", names, positions, numpy.array([0.0, 0.0]), 0.0,
+                       [("right arm", "/animateBehaviourDemoGesture")])
+    assert line.endswith("base heading +0.00 rad  yielding: right arm to /animateBehaviourDemoGesture")
+    assert "yielding" not in status_line(9, "enabled", names, positions, numpy.array([0.0, 0.0]), 0.0, [])

@@ -32,11 +32,15 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Empty
 
 from cssr_system.animate_behaviour import contract
-from cssr_system.animate_behaviour.contract import DISABLED, ENABLED, REPLY_SUCCESS, SERVICE_PATH
+from cssr_system.animate_behaviour.contract import (DISABLED, ENABLED, REPLY_SUCCESS, SERVICE_PATH,
+                                                    STATUS_TOPIC)
 from cssr_system.animate_behaviour.demo.gesture import PLAY_TOPIC
 from cssr_system.animate_behaviour.demo.live_lines import DISABLE, GESTURE, LiveWindow, schedule, status_line
 from cssr_system.animate_behaviour.event_log import read_log
-from cssr_system.animate_behaviour.recording.recording import RunSetting, run_setting, yaw_from_quaternion
+from cssr_system.animate_behaviour.recording.recording import (RunSetting, run_setting, yaw_from_quaternion,
+                                                               BASE_LABEL)
+from cssr_system.pepper.joint_table import PARTS
+from cssr_system.msg import AnimateBehaviourStatus
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
 
 NODE_NAME = "animateBehaviourDemo"
@@ -82,10 +86,16 @@ class DemoDriver:
         self._gesture_publisher = rospy.Publisher(PLAY_TOPIC, Empty, queue_size=1) if gesture else None
         rospy.Subscriber("/joint_states", JointState, self._on_joint_states, queue_size=100)
         rospy.Subscriber(heading_topic, Odometry, self._on_odometry, queue_size=100)
+        self._yielding: List[Tuple[str, str]] = []  # (label, caller) of the parts that yield, from the node's status
+        rospy.Subscriber(STATUS_TOPIC, AnimateBehaviourStatus, self._on_status, queue_size=10)
 
     # -- callbacks and stop requests ------------------------------------------------------------
     def _on_joint_states(self, message: JointState) -> None:
         self.window.add_joint_states(time.time(), message.name, message.position)
+
+    def _on_status(self, message: AnimateBehaviourStatus) -> None:
+        self._yielding = [(PARTS[part.part].label if part.part in PARTS else BASE_LABEL, part.yielding_to)
+                          for part in message.parts if part.state == "yielding"]
 
     def _on_odometry(self, message: Odometry) -> None:
         orientation = message.pose.pose.orientation
@@ -196,7 +206,8 @@ class DemoDriver:
                 self._gesture_publisher.publish(Empty())
             else:
                 names, positions, headings, heading = self.window.last(time.time(), 1.0)
-                print(status_line(int(moment), state, names, positions, headings, heading), flush=True)
+                print(status_line(int(moment), state, names, positions, headings, heading, self._yielding),
+                      flush=True)
 
 
 def write_outcome(path: str, status: int, text: str) -> None:

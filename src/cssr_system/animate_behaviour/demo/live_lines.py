@@ -1,6 +1,6 @@
 """The demo's live lines: which parts moved in the last second, and the base heading.
 
-``   7 s  enabled   moving: right arm, leg, base        base heading +0.12 rad``
+``   7 s  enabled   moving: right arm, leg, base        base heading +0.12 rad  yielding: right arm to /gesture``
 
 `LiveWindow` keeps the last seconds of /joint_states and of the heading (filled from rospy's
 threads, read from the main thread); `status_line` formats one line. Pure Python and numpy: no ROS
@@ -65,15 +65,19 @@ class LiveWindow:
 
 
 def status_line(seconds: int, state: str, joint_names: Sequence[str], positions: numpy.ndarray,
-                headings: numpy.ndarray, heading: Optional[float]) -> str:
+                headings: numpy.ndarray, heading: Optional[float], yielding: Sequence[Tuple[str, str]] = ()) -> str:
     """The live line of one second: the parts that moved in `positions` (that second's samples),
-    the base when `headings` moved, and the latest `heading`."""
+    the base when `headings` moved, the latest `heading`, and the parts that yield to another node
+    ((label, caller id) from the node's status topic)."""
     moving = moving_parts(joint_names, positions)
     if len(headings) >= 2 and numpy.ptp(headings) > MOTION_THRESHOLD:
         moving.append(BASE_LABEL)
     heading_text = "base heading %+.2f rad" % heading if heading is not None else "base heading: no odometry"
-    return "%4d s  %-8s  moving: %-*s  %s" % (seconds, state, MOVING_COLUMN_WIDTH,
+    line = "%4d s  %-8s  moving: %-*s  %s" % (seconds, state, MOVING_COLUMN_WIDTH,
                                               ", ".join(moving) if moving else "nothing", heading_text)
+    if yielding:
+        line += "  yielding: " + ", ".join("%s to %s" % (label, caller) for label, caller in yielding)
+    return line
 
 
 LINE, GESTURE, DISABLE = "line", "gesture", "disable"
