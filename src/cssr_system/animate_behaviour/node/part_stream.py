@@ -85,6 +85,18 @@ class SentGoal(NamedTuple):
     handle: object  # actionlib ClientGoalHandle
 
 
+def goal_message(joints, points) -> FollowJointTrajectoryGoal:
+    """The goal of a trajectory (`trajectory_timing.to_points`), to start as soon as it arrives."""
+    goal = FollowJointTrajectoryGoal()
+    goal.trajectory.joint_names = list(joints)
+    goal.trajectory.header.stamp = rospy.Time(0)  # start now
+    for point in points:
+        goal.trajectory.points.append(JointTrajectoryPoint(
+            positions=list(point.positions), velocities=list(point.velocities),
+            accelerations=list(point.accelerations), time_from_start=rospy.Duration.from_sec(point.time)))
+    return goal
+
+
 class PartStream:
     """One controller's goal stream. Only the supervisor thread calls its methods."""
 
@@ -323,14 +335,7 @@ class PartStream:
         points = to_points(timed)
         bands = self.motion.bounds if self.motion is not None else ()
         lower, upper = [b.lower for b in bands], [b.upper for b in bands]
-        goal = FollowJointTrajectoryGoal()
-        goal.trajectory.joint_names = list(joints)
-        goal.trajectory.header.stamp = rospy.Time(0)  # start now
-        for point in points:
-            goal.trajectory.points.append(JointTrajectoryPoint(
-                positions=list(point.positions), velocities=list(point.velocities),
-                accelerations=list(point.accelerations),
-                time_from_start=rospy.Duration.from_sec(point.time)))
+        goal = goal_message(joints, points)
         self._goal_number += 1
         number = self._goal_number
 
