@@ -26,10 +26,12 @@ python3 -m pytest "$checksums" -v -p no:cacheprovider --junitxml="$RESULTS_DIR/c
 log_step "unit tests (pytest)"
 python3 -m pytest test/unit -q -p no:cacheprovider --ignore="$checksums" --junitxml="$RESULTS_DIR/unit.xml"
 
+bash tools/unit_tests_noetic_python.sh "$RESULTS_DIR/unit-python38.xml"
+
 log_step "system tests: the commands and the README (pytest)"
 python3 -m pytest test/system -q -p no:cacheprovider --junitxml="$RESULTS_DIR/system.xml"
 
-expected=(checksums.xml unit.xml system.xml check-python38.xml check-catkin-lint.xml check-flake8.xml)
+expected=(checksums.xml unit.xml unit-python38.xml system.xml check-python38.xml check-catkin-lint.xml check-flake8.xml)
 rostests=(test/*.test)
 if [ -e "${rostests[0]}" ]; then
   log_step "integration tests (rostest, two at a time)"

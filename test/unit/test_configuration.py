@@ -4,7 +4,7 @@ import shutil
 from collections import OrderedDict
 
 import pytest
-from hypothesis import HealthCheck, given, settings, strategies as st
+from hypothesis import given, settings, strategies as st
 
 from cssr_system import package_files
 from cssr_system.animate_behaviour.configuration import (BEHAVIOURS, KEYS, PLATFORMS, Configuration,
@@ -153,7 +153,8 @@ def configurations(draw):
         num_points_leg=draw(st.integers(1, num_points // repeat)),
         random_seed=draw(st.none() | st.integers(0, 2 ** 32 - 1)),
         home_on_disable=draw(st.booleans()),
-        heading_bound=draw(st.floats(min_value=0.0, max_value=0.5)))
+        heading_bound=draw(st.floats(min_value=0.0, max_value=0.5)),
+        yield_quiet_time=draw(st.floats(min_value=0.0, max_value=10.0)))
 
 
 @pytest.fixture(scope="module")
@@ -166,7 +167,8 @@ def round_trip_data_dir(tmp_path_factory):
     return str(folder)
 
 
-@settings(max_examples=300, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+# The data folder is a module-scoped fixture: shared by every example, as hypothesis wants.
+@settings(max_examples=300, deadline=None)
 @given(configurations())
 def test_format_configuration_file_round_trips(round_trip_data_dir, config):
     text = format_configuration_file(config)
