@@ -19,22 +19,26 @@ that unit tests drive it with a fake action client and a fake clock:
 - ``log``: the event log; ``debug`` and ``warn``: console lines.
 """
 import enum
+import io
+import time
 from collections import OrderedDict
 from typing import Callable, NamedTuple, Optional
 
+import actionlib
 import numpy
 import rospy
 from actionlib.action_client import CommState
 from actionlib_msgs.msg import GoalStatus
-from control_msgs.msg import FollowJointTrajectoryGoal
+from control_msgs.msg import FollowJointTrajectoryAction, FollowJointTrajectoryActionGoal, FollowJointTrajectoryGoal
 from trajectory_msgs.msg import JointTrajectoryPoint
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import NODE_NAME, PURPOSE_ANIMATE, PURPOSE_HOME
+from cssr_system.animate_behaviour.event_log import format_log_line, format_timestamp
 from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory, time_trajectory, to_points
 from cssr_system.animate_behaviour.motion.waypoints import PartMotion
 from cssr_system.animate_behaviour.node.events import GoalDone
-from cssr_system.animate_behaviour.node.foreign_motion import DEFAULT_QUIET_TIME, ForeignMotionTracker
+from cssr_system.animate_behaviour.node.foreign_motion import COMMAND, DEFAULT_QUIET_TIME, ForeignMotionTracker
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
 
@@ -97,6 +101,29 @@ def goal_message(joints, points) -> FollowJointTrajectoryGoal:
     return goal
 
 
+def action_client(action: str) -> actionlib.ActionClient:
+    """The client of a controller's FollowJointTrajectory action. The goal-handle client, not SimpleActionClient:
+    its transitions carry their handle, so a result that arrives before send_goal returns is not lost."""
+    client = actionlib.ActionClient(action, FollowJointTrajectoryAction)
+    # Feedback is not used: no connection, no thread, no decoding at the controller's rate (the controller
+    # watcher's server_ready does not need it).
+    client.feedback_sub.unregister()
+    # Cancels are rare and small: published at once rather than through a queue thread per controller.
+    client.pub_cancel.impl.set_queue_size(None)
+    return client
+
+
+def rehearse(part: str, plan: Planner) -> None:
+    """Plans, builds and encodes one goal of `part` and its log line without sending them, so that the first
+    `enabled` pays no first-use costs (on the robot laptop's Python they made it take ~80 ms)."""
+    joints = PARTS[part].joints
+    centre, zeros = numpy.array(PARTS[part].centre), numpy.zeros(len(joints))
+    timed = plan(0.0, centre, zeros, zeros)
+    FollowJointTrajectoryActionGoal(goal=goal_message(joints, to_points(timed))).serialize(io.BytesIO())
+    format_log_line(format_timestamp(time.time()), contract.GOAL_SENT, dict(times=timed.times,
+                                                                            positions=timed.positions))
+
+
 class PartStream:
     """One controller's goal stream. Only the supervisor thread calls its methods."""
 
@@ -122,6 +149,7 @@ class PartStream:
         self.foreign = ForeignMotionTracker()  # other nodes' motion on this controller
         self.yielding_to = ""  # the caller id of the node the part yields to
         self._yield_started = 0.0
+        self._command_count = 0  # numbers other nodes' command-topic trajectories
         self._goal_number = 0
         self._sent: Optional[SentGoal] = None
         # Goals that have not reported their end, replaced and cancelled ones too: holding their
@@ -220,6 +248,11 @@ class PartStream:
             self.transition_to(PartState.IDLE, "%s moves the part instead of our return to the centre" % caller)
         elif self.state == PartState.YIELDING:
             self.yielding_to = caller
+
+    def foreign_command(self, caller: str, last_point_at: float) -> None:
+        """Another node's trajectory on the controller's command topic."""
+        self._command_count += 1
+        self.foreign_motion("command-%d" % self._command_count, caller, COMMAND, last_point_at)
 
     def foreign_result(self, key: str) -> None:
         """A goal's result on the controller's action (ours are ignored by the tracker)."""

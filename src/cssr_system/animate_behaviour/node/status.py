@@ -1,8 +1,33 @@
-"""The node's status as ROS diagnostics (README: "Status"): one DiagnosticStatus named after the node, OK
-while every part is where it should be, WARN while a part waits (a missing controller, a retry)."""
+"""The node's status (README: "Status"): the latched status topic, published at every change, and the same as ROS
+diagnostics: one DiagnosticStatus named after the node, OK while every part is where it should be, WARN while a
+part waits (a missing controller, a retry)."""
+import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 
-from cssr_system.animate_behaviour.contract import NODE_NAME
+from cssr_system.animate_behaviour.contract import DIAGNOSTICS_TOPIC, NODE_NAME, STATUS_TOPIC
+from cssr_system.animate_behaviour.topics import WHEELS_KEY
+from cssr_system.msg import AnimateBehaviourStatus, PartStatus
+
+
+class StatusPublisher:
+    def __init__(self) -> None:
+        self._status = rospy.Publisher(STATUS_TOPIC, AnimateBehaviourStatus, queue_size=1, latch=True)
+        self._diagnostics = rospy.Publisher(DIAGNOSTICS_TOPIC, DiagnosticArray, queue_size=1)
+        self._published = None
+
+    def publish(self, enabled: bool, part_streams, base_streams) -> None:
+        """Publishes when anything changed since the last time."""
+        parts = tuple((stream.part, stream.action, stream.state.value, stream.yielding_to) for stream in part_streams)
+        parts += tuple((WHEELS_KEY, base.topic, base.status, base.yielding_to) for base in base_streams)
+        if (enabled, parts) == self._published:
+            return
+        self._published = (enabled, parts)
+        message = AnimateBehaviourStatus(enabled=enabled, parts=[
+            PartStatus(part=part, controller=controller, state=state, yielding_to=caller)
+            for part, controller, state, caller in parts])
+        message.header.stamp = rospy.Time.now()
+        self._status.publish(message)
+        self._diagnostics.publish(status_diagnostics(message))
 
 
 def part_summary(part) -> str:

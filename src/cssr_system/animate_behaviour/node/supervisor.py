@@ -2,31 +2,20 @@
 motion state. The service callback, actionlib's callbacks, the controller watcher and the signal
 handler only post events to its queue; it dispatches them to the part and base streams.
 """
-import io
 import logging
 import os
 import queue
 import threading
-import time
-from typing import Dict, List, Optional, Tuple
+from typing import Dict, List, Optional
 
-import actionlib
-import numpy
 import rospy
-from control_msgs.msg import FollowJointTrajectoryAction, FollowJointTrajectoryActionGoal
-from diagnostic_msgs.msg import DiagnosticArray
 from sensor_msgs.msg import JointState
-from std_srvs.srv import SetBool, SetBoolResponse
 
 from cssr_system.animate_behaviour import contract
-from cssr_system.animate_behaviour.configuration import Configuration, ConfigurationError, configuration_items
-from cssr_system.animate_behaviour.contract import (ACCEPTED_STATES, ENABLED, NODE_NAME, REPLY_FAILURE,
-                                                    REPLY_SUCCESS, SERVICE_NAME, parse_activation_state,
-                                                    JOINT_STATES_TOPIC, DIAGNOSTICS_TOPIC, DISABLED,
-                                                    SET_ENABLED_SERVICE_NAME, STATUS_TOPIC)
-from cssr_system.animate_behaviour.event_log import (EventLog, default_log_path, format_log_line,
-                                                     format_timestamp)
-from cssr_system.animate_behaviour.motion.trajectory_timing import time_trajectory, to_points
+from cssr_system.animate_behaviour.configuration import Configuration, configuration_items
+from cssr_system.animate_behaviour.contract import NODE_NAME, JOINT_STATES_TOPIC
+from cssr_system.animate_behaviour.event_log import EventLog, default_log_path
+from cssr_system.animate_behaviour.motion.trajectory_timing import time_trajectory
 from cssr_system.animate_behaviour.motion.waypoints import (animated_parts, make_rng, random_waypoints,
                                                             PartMotion)
 from cssr_system.animate_behaviour.node.base_stream import BaseStream
@@ -34,21 +23,18 @@ from cssr_system.animate_behaviour.node.controller_watcher import ControllerWatc
 from cssr_system.animate_behaviour.node.events import (ControllerConnected, Disable, Enable, GoalDone,
                                                        Shutdown, ForeignCommand, ForeignGoal, ForeignResult,
                                                        ForeignTwist, ControllerLost)
-from cssr_system.animate_behaviour.node.foreign_motion import COMMAND, GOAL
+from cssr_system.animate_behaviour.node.foreign_motion import GOAL
 from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch
 from cssr_system.animate_behaviour.node.joint_states import JointStateCache
-from cssr_system.animate_behaviour.node.parameters import config_file_parameter, load_node_configuration
-from cssr_system.animate_behaviour.node.part_stream import PartStream, Planner, goal_message
-from cssr_system.animate_behaviour.node.status import status_diagnostics
+from cssr_system.animate_behaviour.node.part_stream import PartStream, Planner, rehearse, action_client
+from cssr_system.animate_behaviour.node.services import ActivationServices
+from cssr_system.animate_behaviour.node.status import StatusPublisher
 from cssr_system.animate_behaviour.topics import WHEELS_KEY
-from cssr_system.msg import AnimateBehaviourStatus, PartStatus
 from cssr_system.package_files import package_dir, package_version
 from cssr_system.pepper.joint_table import PARTS
-from cssr_system.srv import setActivation, setActivationResponse
 
 
 HEARTBEAT_PERIOD = 10.0  # s between "running." lines on the console
-SERVICE_REPLY_TIMEOUT = 0.08  # s the service waits for the supervisor to apply a request
 
 
 class AnimateBehaviour:
@@ -65,10 +51,8 @@ class AnimateBehaviour:
         # The clock the controllers execute goals on (ROS time, as Gazebo's controllers): the streams' deadlines.
         self.clock = rospy.get_time
         self.watch = ForeignCommandWatch(rospy.get_caller_id(), self.events.put, self.clock)
-        self.status_publisher = rospy.Publisher(STATUS_TOPIC, AnimateBehaviourStatus, queue_size=1, latch=True)
-        self.diagnostics_publisher = rospy.Publisher(DIAGNOSTICS_TOPIC, DiagnosticArray, queue_size=1)
-        self._published_status = None
-        self._command_count = 0  # numbers the command-topic trajectories of other nodes
+        self.status = StatusPublisher()
+        self.services = ActivationServices(self.events.put, self.log)
         self.parts: Dict[str, PartStream] = {}  # by action namespace: one client each, kept for life
         self._parts_lock = threading.Lock()  # the watcher reads `parts` while the supervisor adds
         self.bases: Dict[str, BaseStream] = {}
@@ -97,25 +81,13 @@ class AnimateBehaviour:
         self._supervisor.start()
         self._watcher.thread.start()
         self._publish_status()
-        rospy.Service(SERVICE_NAME, setActivation, self.handle_set_activation)
-        rospy.Service(SET_ENABLED_SERVICE_NAME, SetBool, self.handle_set_enabled)
-        rospy.loginfo("%s: service %s ready (requests: %s); %s ready.", NODE_NAME,
-                      rospy.resolve_name(SERVICE_NAME), ", ".join(ACCEPTED_STATES),
-                      rospy.resolve_name(SET_ENABLED_SERVICE_NAME))
+        self.services.advertise()
         rospy.Timer(rospy.Duration(HEARTBEAT_PERIOD), self._heartbeat)
 
     def _rehearse(self, config: Configuration, topics: Dict[str, str]) -> None:
-        """Plans, builds and encodes one goal and its log line per part without sending them, so that the
-        first `enabled` pays no first-use costs (on the robot laptop's Python they made it take ~80 ms)."""
         self.rng = make_rng(config.random_seed)
         for motion in animated_parts(config, [key for key in topics if key in PARTS]):
-            joints = PARTS[motion.part].joints
-            centre, zeros = numpy.array(PARTS[motion.part].centre), numpy.zeros(len(joints))
-            timed = self._planner(motion, config)(0.0, centre, zeros, zeros)
-            goal = FollowJointTrajectoryActionGoal(goal=goal_message(joints, to_points(timed)))
-            goal.serialize(io.BytesIO())
-            format_log_line(format_timestamp(time.time()), contract.GOAL_SENT,
-                            dict(times=timed.times, positions=timed.positions))
+            rehearse(motion.part, self._planner(motion, config))
 
     @staticmethod
     def apply_verbosity(config: Configuration) -> None:
@@ -123,46 +95,6 @@ class AnimateBehaviour:
 
     def _heartbeat(self, _event) -> None:
         rospy.loginfo("%s: running.", NODE_NAME)
-
-    # -- services (any thread): only request transitions ---------------------------------------
-    def handle_set_activation(self, request) -> setActivationResponse:
-        accepted, _ = self._activate(request.state)
-        reply = REPLY_SUCCESS if accepted else REPLY_FAILURE
-        self.log.write(contract.ACTIVATION_REQUEST, state=request.state, reply=reply)
-        return setActivationResponse(reply)
-
-    def handle_set_enabled(self, request) -> SetBoolResponse:
-        state = ENABLED if request.data else DISABLED
-        accepted, message = self._activate(state)
-        self.log.write(contract.ACTIVATION_REQUEST, state=state, reply=REPLY_SUCCESS if accepted else REPLY_FAILURE,
-                       service="set_enabled")
-        return SetBoolResponse(success=accepted, message=message)
-
-    def _activate(self, requested: str) -> Tuple[bool, str]:
-        """Apply a request of either service: (accepted, what happened, in one line)."""
-        state = parse_activation_state(requested)
-        if state is None:
-            message = "unknown state %r; expected one of: %s" % (requested, ", ".join(ACCEPTED_STATES))
-            rospy.logwarn("%s: setActivation: %s.", NODE_NAME, message)
-            return False, message
-        if state == DISABLED:
-            self._request(lambda done: Disable("disabled", done))
-            return True, "disabled"
-        try:
-            config_file, config, topics = load_node_configuration()
-        except ConfigurationError as error:
-            rospy.logerr("%s: not enabled: %s", NODE_NAME, error)
-            self.log.write(contract.CONFIGURATION_INVALID, file=config_file_parameter(), problems=list(error.problems))
-            return False, "not enabled: %s" % error
-        self._request(lambda done: Enable(config_file, config, topics, done))
-        return True, "enabled"
-
-    def _request(self, make_event) -> None:
-        done = threading.Event()
-        self.events.put(make_event(done))
-        if not done.wait(SERVICE_REPLY_TIMEOUT):
-            rospy.logwarn("%s: the request is taking longer than %.0f ms; it will still be applied.",
-                          NODE_NAME, SERVICE_REPLY_TIMEOUT * 1000)
 
     def request_shutdown(self, reason: str) -> None:
         done = threading.Event()
@@ -218,9 +150,7 @@ class AnimateBehaviour:
         elif isinstance(event, ForeignResult):
             self.parts[event.action].foreign_result(event.goal_id)
         elif isinstance(event, ForeignCommand):
-            self._command_count += 1
-            self.parts[event.action].foreign_motion("command-%d" % self._command_count, event.caller, COMMAND,
-                                                    event.last_point_at)
+            self.parts[event.action].foreign_command(event.caller, event.last_point_at)
         elif isinstance(event, ForeignTwist):
             self.bases[event.topic].foreign_twist(event.caller, event.twist, self.clock(), self.log)
 
@@ -285,16 +215,8 @@ class AnimateBehaviour:
     def _stream_for(self, part: str, action: str) -> PartStream:
         with self._parts_lock:
             if action not in self.parts:
-                # The goal-handle client, not SimpleActionClient: its transitions carry their handle, so
-                # a result that arrives before send_goal returns is not lost.
-                client = actionlib.ActionClient(action, FollowJointTrajectoryAction)
-                # Feedback is not used: no connection, no thread, no decoding at the controller's rate (the
-                # watcher's server_ready does not need it).
-                client.feedback_sub.unregister()
-                # Cancels are rare and small: published at once rather than through a queue thread per controller.
-                client.pub_cancel.impl.set_queue_size(None)
-                self.parts[action] = PartStream(part, action, client, self.clock, self.joint_states.positions,
-                                                self.events.put, self.log)
+                self.parts[action] = PartStream(part, action, action_client(action), self.clock,
+                                                self.joint_states.positions, self.events.put, self.log)
                 self.watch.watch_controller(action)
             return self.parts[action]
 
@@ -313,20 +235,5 @@ class AnimateBehaviour:
             self.watch.watch_base(topic)
         return self.bases[topic]
 
-    # -- status ---------------------------------------------------------------------------------
     def _publish_status(self) -> None:
-        """The status topic and /diagnostics, when anything changed (README: "Status")."""
-        with self._parts_lock:
-            streams = list(self.parts.values())
-        parts = tuple((stream.part, stream.action, stream.state.value, stream.yielding_to) for stream in streams)
-        parts += tuple((WHEELS_KEY, base.topic, base.status, base.yielding_to) for base in self.bases.values())
-        status = (self.enabled, parts)
-        if status == self._published_status:
-            return
-        self._published_status = status
-        message = AnimateBehaviourStatus(enabled=self.enabled, parts=[
-            PartStatus(part=part, controller=controller, state=state, yielding_to=caller)
-            for part, controller, state, caller in parts])
-        message.header.stamp = rospy.Time.now()
-        self.status_publisher.publish(message)
-        self.diagnostics_publisher.publish(status_diagnostics(message))
+        self.status.publish(self.enabled, self._stream_snapshot(), list(self.bases.values()))
