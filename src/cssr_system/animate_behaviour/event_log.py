@@ -24,23 +24,42 @@ the rename and reopen ``<path>``; a line they write in that instant lands at the
 ``<path>.1``, never lost and never torn.  Rotation among processes is serialised with an advisory
 ``flock`` on the current file.
 
+Faults (README: "Faults"): ``EventLog`` never raises into its caller, neither when it is made nor
+when it writes, because the node's motion and its stopping must not depend on a disk.  A path that
+cannot be opened or written at start-up (a read-only or missing folder that cannot be created, a
+directory, ``/dev/full``) falls back to ``$ROS_HOME/animateBehaviourLogFile.log`` (``~/.ros`` without
+ROS_HOME); when that fails too the log runs without a file.  A file that fails later (full disk,
+read-only file system, removed folder that cannot be made again) is not replaced: its lines are
+dropped, counted, and the file is tried again every ``retry_period`` seconds.  Each failure is
+reported once, and the return to normal once (with the number of lines lost, also written into the
+file as an ``error`` event); a file or folder removed while the log runs is made again at the next
+line.  Reports go to a ``report(level, text)`` callable (``logging`` levels); the default hands them
+to the ``rosout`` logger, which rospy prints on the console.  A line that cannot be formatted (NaN,
+a bad event name) is replaced by an ``error`` event naming the problem.
+
 Readers: ``parse_log_line`` and ``read_log``.
 """
 import datetime
 import fcntl
 import json
+import logging
 import math
 import os
 import re
+import stat
 import threading
 import time
 from typing import Any, Callable, Dict, List, NamedTuple, Optional
 
 import numpy
 
+from cssr_system.animate_behaviour.contract import ERROR, NODE_NAME
+
 LOG_FILE_NAME = "animateBehaviourLogFile.log"
 DEFAULT_MAX_BYTES = 10 * 1024 * 1024
 ROTATED_SUFFIX = ".1"
+RETRY_PERIOD = 5.0  # s between attempts to write again to a log file that failed
+ROS_HOME_FALLBACK = "$ROS_HOME"  # EventLog's default fallback: ros_home_log_path() when it is made
 
 _TIMESTAMP_PATTERN = re.compile(r"\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}\.\d{3}[+-]\d{2}:\d{2}\Z")
 _EVENT_PATTERN = re.compile(r"\S+\Z")
@@ -99,46 +118,107 @@ def format_log_line(timestamp: str, event: str, fields: Dict[str, Any]) -> str:
                            json.dumps(payload, ensure_ascii=False, allow_nan=False))
 
 
+Reporter = Callable[[int, str], None]
+
+
+def report_to_console(level: int, text: str) -> None:
+    """EventLog's default reporter: the ``rosout`` logger, which rospy prints on the console (and
+    Python prints on stderr when rospy is not set up)."""
+    logging.getLogger("rosout").log(level, text)
+
+
+def open_for_append(path: str) -> int:
+    """A descriptor appending to `path`, creating the file and its folders as needed."""
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    return os.open(path, os.O_WRONLY | os.O_CREAT | os.O_APPEND | os.O_CLOEXEC, 0o644)
+
+
+def _reason(error: BaseException) -> str:
+    """An OSError's reason in a few words ("No space left on device"); else its type and text."""
+    if isinstance(error, OSError) and error.strerror:
+        return error.strerror
+    return "{}: {}".format(type(error).__name__, error)
+
+
 class EventLog:
-    """An append-only, size-bounded, thread- and process-safe log file (module docstring)."""
+    """An append-only, size-bounded, thread- and process-safe log file that never raises into its
+    caller (module docstring)."""
 
     def __init__(self, path: str, max_bytes: int = DEFAULT_MAX_BYTES,
-                 clock: Callable[[], float] = time.time) -> None:
+                 clock: Callable[[], float] = time.time, fallback: Optional[str] = ROS_HOME_FALLBACK,
+                 report: Reporter = report_to_console, retry_period: float = RETRY_PERIOD,
+                 monotonic: Callable[[], float] = time.monotonic,
+                 opener: Callable[[str], int] = open_for_append) -> None:
+        """`fallback`: the file used when `path` cannot be written at start-up (None: none);
+        `clock`: the time of the lines; `monotonic`, `retry_period`: when to try a failed file again;
+        `opener`: opens a path for appending (tests inject failures here)."""
         if max_bytes <= 0:
             raise ValueError("max_bytes must be positive, got %r" % (max_bytes,))
-        self._path = os.path.abspath(path)
+        self._requested = os.path.abspath(path)
+        if fallback == ROS_HOME_FALLBACK:
+            fallback = ros_home_log_path(os.environ.get("ROS_HOME"))
+        self._fallback = os.path.abspath(fallback) if fallback else None
+        if self._fallback == self._requested:
+            self._fallback = None
+        self._path = self._requested  # the file in use
         self._max_bytes = int(max_bytes)
         self._clock = clock
+        self._report = report
+        self._retry_period = float(retry_period)
+        self._monotonic = monotonic
+        self._opener = opener
         self._lock = threading.Lock()
-        folder = os.path.dirname(self._path)
-        os.makedirs(folder, exist_ok=True)
-        self._fd = self._open()  # type: Optional[int]
+        self._closed = False
+        self._fd = None  # type: Optional[int]
+        self._settled = False  # a line reached the file in use: it is kept for the whole run
+        self._failure = None  # type: Optional[str]  # why lines are being dropped, None when they are not
+        self._lost = 0  # lines dropped since the failure began
+        self._next_attempt = 0.0
+        self._bad_events = set()  # events whose fields could not be written (reported once each)
+        self._reports = []  # (level, text) to hand to `report` once the lock is released
+        self._reports_lock = threading.Lock()
+        with self._lock:
+            self._open_at_start()
+        self._flush_reports()
 
     @property
     def path(self) -> str:
+        """The file the log writes to: the requested one, or the fallback after a start-up failure."""
         return self._path
 
+    @property
+    def requested_path(self) -> str:
+        return self._requested
+
+    @property
+    def writing(self) -> bool:
+        """False while lines are dropped (no file could be opened or written)."""
+        return self._failure is None and not self._closed
+
     def write(self, event: str, **fields: Any) -> None:
-        """Append one line: timestamp, `event`, `fields` as a JSON object."""
-        line = format_log_line(format_timestamp(self._clock()), event, fields).encode("utf-8")
-        with self._lock:
-            if self._fd is None:
-                raise ValueError("event log %s is closed" % self._path)
-            if not self._is_current():
-                self._reopen()  # another process rotated (or someone removed) the file
-            size = os.fstat(self._fd).st_size
-            if size > 0 and size + len(line) > self._max_bytes:
-                self._rotate(len(line))
-            written = os.write(self._fd, line)
-            if written < len(line):  # only on a full disk or similar: keep what we can
-                os.write(self._fd, line[written:])
+        """Append one line: timestamp, `event`, `fields` as a JSON object.  Never raises: a failure
+        is reported (module docstring) and the line dropped; after close() lines are ignored."""
+        try:
+            line = self._format(event, fields)
+            with self._lock:
+                if not self._closed:
+                    self._write_line(line)
+        except Exception as error:  # not expected; still never the caller's problem
+            self._report_later(logging.ERROR, "%s: the log file %s: unexpected %s" % (
+                NODE_NAME, self._path, _reason(error)))
+        self._flush_reports()
 
     def close(self) -> None:
-        """Close the file; later writes raise ValueError.  Closing twice is harmless."""
+        """Close the file; later writes are ignored.  Closing twice is harmless."""
         with self._lock:
-            if self._fd is not None:
-                os.close(self._fd)
-                self._fd = None
+            if self._closed:
+                return
+            self._closed = True
+            self._drop_descriptor()
+            if self._failure is not None and self._lost:
+                self._report_later(logging.WARNING, "%s: %d line(s) could not be written to the log file %s "
+                                   "(%s)." % (NODE_NAME, self._lost, self._path, self._failure))
+        self._flush_reports()
 
     def __enter__(self) -> "EventLog":
         return self
@@ -146,35 +226,182 @@ class EventLog:
     def __exit__(self, *exc_info: Any) -> None:
         self.close()
 
-    def _open(self) -> int:
-        return os.open(self._path, os.O_WRONLY | os.O_CREAT | os.O_APPEND | os.O_CLOEXEC, 0o644)
+    # -- formatting -------------------------------------------------------------------------------
+    def _format(self, event: str, fields: Dict[str, Any]) -> bytes:
+        stamp = format_timestamp(self._clock())
+        try:
+            return format_log_line(stamp, event, fields).encode("utf-8")
+        except ValueError as error:
+            with self._lock:
+                first = str(event) not in self._bad_events
+                self._bad_events.add(str(event))
+            if first:
+                self._report_later(logging.ERROR, "%s: a %r line was not logged: %s" % (NODE_NAME, event, error))
+            return format_log_line(stamp, ERROR, dict(
+                where="event_log", message="a {!r} line was not logged: {}".format(event, error))).encode("utf-8")
 
-    def _reopen(self) -> None:
-        assert self._fd is not None
-        os.close(self._fd)
-        self._fd = self._open()
+    # -- writing (with the lock held) -------------------------------------------------------------
+    def _write_line(self, line: bytes) -> None:
+        if self._fd is None:
+            if self._monotonic() < self._next_attempt:
+                self._lost += 1
+            else:
+                self._retry(line)
+            return
+        try:
+            if not self._is_current():
+                self._follow_path()  # rotated by another process, or removed by someone
+            self._rotate_if_full(len(line))
+            self._write_all(line)
+        except Exception as error:
+            self._failed(error, line)
+            return
+        self._settled = True
+
+    def _write_all(self, line: bytes) -> None:
+        written = os.write(self._fd, line)
+        while written < len(line):  # a short write: only on a nearly full disk or similar
+            written += os.write(self._fd, line[written:])
+
+    def _open_at_start(self) -> None:
+        try:
+            self._fd = self._opener(self._path)
+        except Exception as error:
+            self._failed(error, None)
+
+    def _failed(self, error: BaseException, line: Optional[bytes]) -> None:
+        """The file in use cannot be opened or written.  Before any line reached a file, the fallback
+        is tried; otherwise `line` is dropped and the file tried again later.  Reported once."""
+        self._drop_descriptor()
+        if self._failure is not None:  # already reported: count and wait
+            self._lost += int(line is not None)
+            self._next_attempt = self._monotonic() + self._retry_period
+            return
+        reason = _reason(error)
+        if self._settled or self._fallback is None or self._path == self._fallback:
+            self._begin_failure("cannot write the log file %s (%s): lines are dropped, trying again every %g s"
+                                % (self._path, reason, self._retry_period), reason, line)
+            return
+        failed_path, self._path = self._path, self._fallback
+        try:
+            self._fd = self._opener(self._path)
+            if line is not None:
+                self._write_all(line)
+                self._settled = True
+        except Exception as fallback_error:
+            self._drop_descriptor()
+            self._path = failed_path
+            self._begin_failure("cannot write the log file %s (%s) nor %s (%s): running without a log file, "
+                                "trying again every %g s" % (failed_path, reason, self._fallback,
+                                                             _reason(fallback_error), self._retry_period),
+                                reason, line)
+            return
+        self._report_later(logging.WARNING, "%s: cannot write the log file %s (%s): logging to %s instead."
+                           % (NODE_NAME, failed_path, reason, self._path))
+
+    def _begin_failure(self, text: str, reason: str, line: Optional[bytes]) -> None:
+        self._failure = reason
+        self._lost = int(line is not None)
+        self._next_attempt = self._monotonic() + self._retry_period
+        self._report_later(logging.ERROR, "%s: %s." % (NODE_NAME, text))
+
+    def _retry(self, line: bytes) -> None:
+        """After a failure: write `line` to the first file that takes it (the one in use once a line
+        reached it; before that, the requested file, then the fallback), after an `error` line that
+        counts the lines lost; else count `line` as lost too."""
+        candidates = [self._path] if self._settled or self._fallback is None else [self._requested, self._fallback]
+        note = b""
+        if self._lost:
+            note = format_log_line(format_timestamp(self._clock()), ERROR, dict(
+                where="event_log", message="{} line(s) lost: {}".format(self._lost, self._failure))).encode("utf-8")
+        for path in candidates:
+            try:
+                self._fd = self._opener(path)
+                self._path = path
+                self._rotate_if_full(len(note) + len(line))
+                self._write_all(note + line)
+            except Exception:
+                self._drop_descriptor()
+                continue
+            self._settled = True
+            self._report_later(logging.INFO, "%s: logging works again, to %s (%d line(s) lost)." % (
+                NODE_NAME, self._path, self._lost))
+            self._failure, self._lost = None, 0
+            return
+        self._lost += 1
+        self._next_attempt = self._monotonic() + self._retry_period
+
+    def _drop_descriptor(self) -> None:
+        if self._fd is not None:
+            try:
+                os.close(self._fd)
+            except OSError:
+                pass
+            self._fd = None
 
     def _is_current(self) -> bool:
-        """Whether our descriptor is still the file that `path` names."""
+        """Whether our descriptor is still the file that the path names (True when that cannot
+        be told: the descriptor is then still the best place to write)."""
         assert self._fd is not None
         try:
             named = os.stat(self._path)
         except FileNotFoundError:
             return False
+        except OSError:
+            return True
         opened = os.fstat(self._fd)
         return (named.st_dev, named.st_ino) == (opened.st_dev, opened.st_ino)
 
-    def _rotate(self, line_length: int) -> None:
-        """Rename the full file to <path>.1 and start a new one.  The flock makes a writer in
-        another process that saw the same full file wait, then find it already rotated."""
+    def _follow_path(self) -> None:
+        """Open the file the path names now.  A path that no longer exists, and whose file is not the
+        one rotated by another writer, was removed: say so, and make it again."""
         assert self._fd is not None
+        if not os.path.exists(self._path):
+            opened = os.fstat(self._fd)
+            try:
+                rotated = os.stat(self._path + ROTATED_SUFFIX)
+                was_rotated = (rotated.st_dev, rotated.st_ino) == (opened.st_dev, opened.st_ino)
+            except OSError:
+                was_rotated = False
+            if not was_rotated:
+                self._report_later(logging.WARNING, "%s: the log file %s was removed; writing to a new one."
+                                   % (NODE_NAME, self._path))
+        self._drop_descriptor()
+        self._fd = self._opener(self._path)
+
+    def _rotate_if_full(self, line_length: int) -> None:
+        """Rename the full file to <path>.1 and start a new one.  The flock makes a writer in
+        another process that saw the same full file wait, then find it already rotated.  Only
+        regular files rotate (never /dev/null or a pipe)."""
+        assert self._fd is not None
+        opened = os.fstat(self._fd)
+        if not stat.S_ISREG(opened.st_mode) or opened.st_size == 0 \
+                or opened.st_size + line_length <= self._max_bytes:
+            return
         fcntl.flock(self._fd, fcntl.LOCK_EX)
         try:
             if self._is_current() and os.fstat(self._fd).st_size + line_length > self._max_bytes:
                 os.replace(self._path, self._path + ROTATED_SUFFIX)
         finally:
             fcntl.flock(self._fd, fcntl.LOCK_UN)
-        self._reopen()
+        self._drop_descriptor()
+        self._fd = self._opener(self._path)
+
+    def _report_later(self, level: int, text: str) -> None:
+        with self._reports_lock:
+            self._reports.append((level, text))
+
+    def _flush_reports(self) -> None:
+        """Hand the collected reports over, outside the lock (a reporter may write to this log)."""
+        if not self._reports:
+            return
+        with self._reports_lock:
+            reports, self._reports = self._reports, []
+        for level, text in reports:
+            try:
+                self._report(level, text)
+            except Exception:  # a broken reporter must not break the caller either
+                pass
 
 
 def parse_log_line(line: str) -> LogEntry:
@@ -236,6 +463,12 @@ def default_log_path(package_dir: str, ros_home: Optional[str], file_name: str =
         writable = os.path.isdir(package_dir) and os.access(package_dir, os.W_OK)
     if writable:
         return preferred
+    return ros_home_log_path(ros_home, file_name)
+
+
+def ros_home_log_path(ros_home: Optional[str], file_name: str = LOG_FILE_NAME) -> str:
+    """``<ros_home>/<file_name>``, or ``~/.ros/<file_name>`` when ROS_HOME is not set: where the
+    log goes when the package's data folder, or the file asked for, cannot be written."""
     home = ros_home if ros_home else os.path.join(os.path.expanduser("~"), ".ros")
     return os.path.join(home, file_name)
 
