@@ -41,7 +41,9 @@ def trajectory_end(trajectory: JointTrajectory, received_at: float) -> float:
 
 
 class ForeignCommandWatch:
-    def __init__(self, own_caller_id: str, post: Callable[[object], None], clock: Callable[[], float]) -> None:
+    def __init__(self, own_caller_id: str, post: Callable[[object], None], clock: Callable[[], float],
+                 report_error: Callable[[str, Exception], None] = None) -> None:
+        self._report_error = report_error
         self._own_prefix = own_caller_id + "-"
         self._own = own_caller_id
         self._post = post
@@ -52,12 +54,24 @@ class ForeignCommandWatch:
 
     def watch_controller(self, action: str) -> None:
         self._subscribers += [
-            rospy.Subscriber(action + "/status", GoalStatusArray, self._on_status, callback_args=action),
-            rospy.Subscriber(command_topic(action), JointTrajectory, self._on_command, callback_args=action,
-                             queue_size=10)]
+            rospy.Subscriber(action + "/status", GoalStatusArray, self._guarded(self._on_status), callback_args=action),
+            rospy.Subscriber(command_topic(action), JointTrajectory, self._guarded(self._on_command),
+                             callback_args=action, queue_size=10)]
 
     def watch_base(self, topic: str) -> None:
-        self._subscribers.append(rospy.Subscriber(topic, Twist, self._on_twist, callback_args=topic, queue_size=10))
+        self._subscribers.append(rospy.Subscriber(topic, Twist, self._guarded(self._on_twist), callback_args=topic,
+                                                  queue_size=10))
+
+    def _guarded(self, callback):
+        """`callback`, reporting an unexpected error in one line instead of rospy's traceback."""
+        def guarded(message, argument):
+            try:
+                callback(message, argument)
+            except Exception as error:
+                if self._report_error is None:
+                    raise
+                self._report_error("watching %s" % argument, error)
+        return guarded
 
     def _on_status(self, message: GoalStatusArray, action: str) -> None:
         """Posts a ForeignGoal when another client's goal is first seen running, a ForeignResult when it ends

@@ -1,34 +1,72 @@
-"""The latest measured joint positions, from /joint_states.
+"""The latest measured position of every joint, from /joint_states (README: "Faults").
+
+A message is used only when it is sound: as many positions as names, every position finite, a stamp neither far in
+the past nor in the future of the node's clock (ROS time; a zero stamp counts as "now"). Each joint keeps its own
+stamp, so a message that lacks some joints updates the others only. A joint's measurement is current for
+MAX_AGE seconds; planning asks for whole parts and gets None when one of its joints has no current measurement,
+and then plans as without a measurement. Each kind of problem is reported once, to the `report` callable; nothing
+here ever raises into rospy's callback thread. Pure Python: the clock and the report are injected.
 """
+import math
 import threading
-import time
-from typing import Dict, Optional
+from typing import Callable, Dict, Optional, Sequence, Tuple
 
 import numpy
-from sensor_msgs.msg import JointState
 
-
-JOINT_STATE_MAX_AGE = 1.0  # s; older /joint_states are not trusted as the current position
+MAX_AGE = 1.0  # s: older measurements are not trusted as the current position
+MAX_AHEAD = 1.0  # s: stamps further in the future than this are not trusted either
 
 
 class JointStateCache:
-    """The latest measured position of every joint, written by the /joint_states callback."""
-
-    def __init__(self) -> None:
+    def __init__(self, clock: Callable[[], float], report: Callable[[str], None]) -> None:
+        self._clock = clock
+        self._report = report
         self._lock = threading.Lock()
-        self._positions: Dict[str, float] = {}
-        self._received_at = 0.0
+        self._joints: Dict[str, Tuple[float, float]] = {}  # name -> (position, stamp)
+        self._reported = set()
 
-    def update(self, message: JointState) -> None:
-        with self._lock:
-            self._positions.update(zip(message.name, message.position))
-            self._received_at = time.monotonic()
+    def _report_once(self, kind: str, text: str) -> None:
+        if kind not in self._reported:
+            self._reported.add(kind)
+            self._report(text)
 
-    def positions(self, joints) -> Optional[numpy.ndarray]:
-        """Current positions of `joints`, or None when they are unknown or stale."""
+    def update(self, message) -> None:
+        """A /joint_states message (rospy's callback thread)."""
+        try:
+            names, positions = list(message.name), list(message.position)
+            stamp = message.header.stamp.to_sec()
+        except Exception as error:  # a message rospy could decode but that is not a JointState
+            self._report_once("unreadable", "/joint_states: unusable message (%s); ignored" % error)
+            return
+        now = self._clock()
+        if len(names) != len(positions):
+            self._report_once("length", "/joint_states: %d names but %d positions; such messages are ignored"
+                              % (len(names), len(positions)))
+            return
+        if not all(math.isfinite(position) for position in positions):
+            self._report_once("finite", "/joint_states: a position that is not a finite number (NaN or infinite); "
+                                        "such messages are ignored")
+            return
+        if stamp == 0.0:
+            stamp = now
+        elif now - stamp > MAX_AGE or stamp - now > MAX_AHEAD:
+            self._report_once("stamp", "/joint_states: stamp %.3f s %s the node's clock; such messages are ignored"
+                              % (abs(now - stamp), "behind" if stamp < now else "ahead of"))
+            return
         with self._lock:
-            if time.monotonic() - self._received_at > JOINT_STATE_MAX_AGE:
-                return None
-            if not all(name in self._positions for name in joints):
-                return None
-            return numpy.array([self._positions[name] for name in joints], dtype=float)
+            for name, position in zip(names, positions):
+                self._joints[name] = (position, stamp)
+
+    def positions(self, joints: Sequence[str]) -> Optional[numpy.ndarray]:
+        """Current positions of `joints`, or None when one of them has no current measurement."""
+        now = self._clock()
+        with self._lock:
+            measured = [self._joints.get(name) for name in joints]
+        if any(value is None for value in measured):
+            missing = [name for name, value in zip(joints, measured) if value is None]
+            self._report_once("missing " + ",".join(missing), "/joint_states: no measurement of %s; planning from "
+                                                              "the plan instead" % ", ".join(missing))
+            return None
+        if any(now - stamp > MAX_AGE for _, stamp in measured):
+            return None
+        return numpy.array([position for position, _ in measured], dtype=float)

@@ -1,7 +1,15 @@
-"""The animateBehaviour program: starts the node, waits for a signal or ROS shutdown, stops the robot, exits.
+"""The animateBehaviour program: starts the node, waits for a signal or a ROS shutdown, stops the robot, exits.
+
+SIGINT, SIGTERM and a ROS shutdown (``rosnode kill``, the master going away) stop the robot as ``disabled`` does,
+in any state, then the program exits with status 0 (README: "Faults"). A ROS shutdown is met in rospy's
+shutdown hook, before rospy closes the publishers, so the stop still reaches the controllers. If the
+supervisor thread, the one that commands the robot, has ended, the program stops the robot from its own
+thread and exits 1 with one line that says so.
 """
+import os
 import signal
 import sys
+import threading
 import time
 from typing import List, Optional
 
@@ -14,8 +22,24 @@ from cssr_system.animate_behaviour.node.parameters import (config_file_parameter
                                                            parameter_overrides)
 from cssr_system.animate_behaviour.node.supervisor import AnimateBehaviour
 
+SHUTDOWN_FLUSH_TIME = 0.3  # s at most for the last messages (cancels, home goals, a zero Twist) to leave
+TEARDOWN_TIME = 0.1  # s at most for rospy's teardown (unregistering from the master), once the robot is stopped
+ALIVE_CHECK_PERIOD = 1.0  # s between checks that the supervisor still runs
 
-SHUTDOWN_FLUSH_TIME = 0.3  # s left for the last messages to leave before the node exits
+
+def wait_for_outgoing_messages(timeout: float) -> None:
+    """Returns when every message published so far has left this process (rospy's per-connection queues are
+    empty), or after `timeout`."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        try:  # rospy's queued connections keep what is still to be written in `_queue`
+            publishers = list(rospy.topics.get_topic_manager().pubs.values())
+            if not any(getattr(connection, "_queue", None) for publisher in publishers
+                       for connection in publisher.connections):
+                return
+        except Exception:  # another rospy: fall back to waiting the whole time
+            pass
+        time.sleep(0.005)
 
 
 def print_banner(version: str) -> None:
@@ -24,14 +48,37 @@ def print_banner(version: str) -> None:
     rospy.loginfo("%s: start-up.", NODE_NAME)
 
 
+class Stopper:
+    """Stops the robot once, whoever asks first: a signal, rospy's shutdown hook, or the main loop."""
+
+    def __init__(self, node: AnimateBehaviour) -> None:
+        self._node = node
+        self._lock = threading.Lock()
+        self.reason = ""
+        self.requested = threading.Event()
+
+    def request(self, reason: str) -> None:
+        self.reason = self.reason or reason
+        self.requested.set()
+
+    def stop(self, reason: str) -> None:
+        with self._lock:
+            if self._node.stopped:
+                return
+            self.reason = self.reason or reason
+            self._node.request_shutdown(self.reason)
+            wait_for_outgoing_messages(SHUTDOWN_FLUSH_TIME)
+            self._node.log.write(contract.NODE_STOPPED, reason=self.reason)
+
+
 def main(argv: Optional[List[str]] = None) -> int:
     argv = rospy.myargv(sys.argv if argv is None else argv)
     # The node handles SIGINT and SIGTERM itself: it stops the robot before rospy shuts down.
     rospy.init_node(NODE_NAME, disable_signals=True)
     try:
         node = AnimateBehaviour()
-    except OSError as error:
-        rospy.logerr("%s: cannot open the log file: %s", NODE_NAME, error)
+    except Exception as error:  # nothing moves yet: say why, once, and exit
+        print("{}: cannot start: {}: {}".format(NODE_NAME, type(error).__name__, error), file=sys.stderr, flush=True)
         return 1
     print_banner(node.version)
     node.log.write(contract.NODE_STARTED, version=node.version, node=rospy.get_name(),
@@ -46,17 +93,27 @@ def main(argv: Optional[List[str]] = None) -> int:
                        problems=list(error.problems))
         rospy.signal_shutdown("invalid configuration")
         return 1
+    stopper = Stopper(node)
+    signal.signal(signal.SIGINT, lambda number, frame: stopper.request("SIGINT"))
+    signal.signal(signal.SIGTERM, lambda number, frame: stopper.request("SIGTERM"))
+    rospy.on_shutdown(lambda: stopper.stop("ROS shutdown"))  # runs before rospy closes the publishers
     node.start(config_file, config, topics)
 
-    stop_reason = []
-    signal.signal(signal.SIGINT, lambda number, frame: stop_reason.append("SIGINT"))
-    signal.signal(signal.SIGTERM, lambda number, frame: stop_reason.append("SIGTERM"))
-    while not stop_reason and not rospy.is_shutdown():
-        time.sleep(0.02)
-    reason = stop_reason[0] if stop_reason else "ROS shutdown"
-    node.request_shutdown(reason)
-    time.sleep(SHUTDOWN_FLUSH_TIME)  # let the cancel, home goals and zero twist leave
-    node.log.write(contract.NODE_STOPPED, reason=reason)
+    status = 0
+    while not stopper.requested.wait(ALIVE_CHECK_PERIOD) and not rospy.is_shutdown():
+        if not node.supervisor_alive():
+            print("{}: the supervisor thread has ended; stopping the robot and exiting.".format(NODE_NAME),
+                  file=sys.stderr, flush=True)
+            node.stop_without_supervisor()
+            stopper.request("supervisor ended")
+            status = 1
+    stopper.stop(stopper.reason or "ROS shutdown")
     node.log.close()
-    rospy.signal_shutdown(reason)
-    return 0
+    # The robot is stopped: rospy's teardown (unregistering every topic from the master, closing connections whose
+    # writer threads the interpreter would wait for) gets a bounded time, so the node exits within half a second.
+    teardown = threading.Thread(target=rospy.signal_shutdown, args=(stopper.reason,), daemon=True)
+    teardown.start()
+    teardown.join(TEARDOWN_TIME)
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(status)

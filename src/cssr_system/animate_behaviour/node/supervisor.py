@@ -43,14 +43,14 @@ class AnimateBehaviour:
     def __init__(self) -> None:
         self.version = package_version()
         self.log = EventLog(rospy.get_param("~logFile", default_log_path(package_dir(), os.environ.get("ROS_HOME"))))
-        self.joint_states = JointStateCache()
         self.events: "queue.Queue" = queue.Queue()
         self.config: Optional[Configuration] = None
         self.enabled = False
         self.rng = None
         # The clock the controllers execute goals on (ROS time, as Gazebo's controllers): the streams' deadlines.
         self.clock = rospy.get_time
-        self.watch = ForeignCommandWatch(rospy.get_caller_id(), self.events.put, self.clock)
+        self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text))
+        self.watch = ForeignCommandWatch(rospy.get_caller_id(), self.events.put, self.clock, self.report_error)
         self.status = StatusPublisher()
         self.services = ActivationServices(self.events.put, self.log)
         self.parts: Dict[str, PartStream] = {}  # by action namespace: one client each, kept for life
@@ -97,9 +97,33 @@ class AnimateBehaviour:
         rospy.loginfo("%s: running.", NODE_NAME)
 
     def request_shutdown(self, reason: str) -> None:
+        """Stops the robot as `disabled` does and ends the supervisor (waits at most 1 s)."""
+        if not self.supervisor_alive():
+            self._stopped.set()
+            return
         done = threading.Event()
         self.events.put(Shutdown(reason, done))
         done.wait(1.0)
+
+    @property
+    def stopped(self) -> bool:
+        return self._stopped.is_set()
+
+    def supervisor_alive(self) -> bool:
+        return self._supervisor.is_alive()
+
+    def stop_without_supervisor(self) -> None:
+        """The last resort when the supervisor thread has ended: cancel every goal, stop the base."""
+        for stream in self._stream_snapshot():
+            try:
+                stream.disable(home=False)
+            except Exception as error:  # the other parts must still be stopped
+                self.report_error(stream.part, error)
+        if self.active_base is not None:
+            try:
+                self.active_base.stop(False, self.clock(), self.log)
+            except Exception as error:
+                self.report_error(WHEELS_KEY, error)
 
     # -- supervisor thread: the only owner of the motion state -----------------------------------
     def _run(self) -> None:
@@ -224,6 +248,11 @@ class AnimateBehaviour:
         """An unexpected error in a thread of the node: one line on the console and in the log; the thread goes on."""
         rospy.logerr("%s: %s: %s: %s", NODE_NAME, where, type(error).__name__, error)
         self.log.write(contract.ERROR, where=where, message="{}: {}".format(type(error).__name__, error))
+
+    def report_problem(self, where: str, text: str) -> None:
+        """Bad input from outside (README: "Faults"): one line on the console and in the log."""
+        rospy.logwarn("%s: %s", NODE_NAME, text)
+        self.log.write(contract.ERROR, where=where, message=text)
 
     def _stream_snapshot(self) -> List[PartStream]:
         with self._parts_lock:
