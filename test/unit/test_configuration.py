@@ -110,7 +110,8 @@ def test_table_matches_the_configuration_fields():
 def test_configuration_items_are_written_as_in_the_file():
     items = configuration_items(SHIPPED_DEFAULTS)
     expected = OrderedDict(SHIPPED_VALUES)
-    expected.update(randomSeed="none", homeOnDisable="true", headingBound="0.3", yieldQuietTime="1.0")
+    expected.update(randomSeed="none", homeOnDisable="true", headingBound="0.3", yieldQuietTime="1.0",
+                    motionStyle="random", breathsPerMinute="12.0", breathingAmplitude="0.6")
     assert items == expected and list(items) == list(expected)
     items = configuration_items(SHIPPED_DEFAULTS._replace(behaviour=frozenset({"rotation", "body"}), random_seed=7))
     assert items["behaviour"] == "body,rotation" and items["randomSeed"] == "7"
@@ -154,7 +155,10 @@ def configurations(draw):
         random_seed=draw(st.none() | st.integers(0, 2 ** 32 - 1)),
         home_on_disable=draw(st.booleans()),
         heading_bound=draw(st.floats(min_value=0.0, max_value=0.5)),
-        yield_quiet_time=draw(st.floats(min_value=0.0, max_value=10.0)))
+        yield_quiet_time=draw(st.floats(min_value=0.0, max_value=10.0)),
+        motion_style=draw(st.sampled_from(["random", "breathing"])),
+        breaths_per_minute=draw(st.floats(min_value=5.0, max_value=20.0)),
+        breathing_amplitude=draw(st.floats(min_value=0.0, max_value=1.0)))
 
 
 @pytest.fixture(scope="module")
@@ -300,7 +304,9 @@ def test_range_expectations_are_stated():
 @pytest.mark.parametrize("line, expected", [
     ("headingBound 0.6", "[0, 0.5]"), ("headingBound -0.1", "[0, 0.5]"), ("randomSeed -1", "none or an integer"),
     ("randomSeed 4294967296", "4294967295"), ("randomSeed 1.5", "none or an integer"),
-    ("homeOnDisable yes", "true or false"), ("yieldQuietTime -1", "[0, 10]"), ("yieldQuietTime 11", "[0, 10]")])
+    ("homeOnDisable yes", "true or false"), ("yieldQuietTime -1", "[0, 10]"), ("yieldQuietTime 11", "[0, 10]"),
+    ("motionStyle calm", "random or breathing"), ("breathsPerMinute 30", "[5, 20]"), ("breathsPerMinute 4", "[5, 20]"),
+    ("breathingAmplitude 1.5", "[0, 1]")])
 def test_optional_keys_are_checked(line, expected):
     problem = only_problem(config_text(extra=line + "\n"))
     key, value = line.split(" ")
@@ -414,6 +420,8 @@ def test_every_problem_is_reported_in_one_error():
     ("randomSeed", "none", "random_seed", None),
     ("headingBound", 0.1, "heading_bound", 0.1),
     ("yieldQuietTime", 0, "yield_quiet_time", 0.0),
+    ("motionStyle", "Breathing", "motion_style", "breathing"),
+    ("breathsPerMinute", 6, "breaths_per_minute", 6.0),
     ("robotTopics", os.path.join(DATA_DIR, "pepperTopics.dat"), "robot_topics",
      os.path.join(DATA_DIR, "pepperTopics.dat"))])
 def test_overrides_of_every_type(key, value, attribute, expected):

@@ -337,7 +337,7 @@ def test_settled_since_and_headings_from_commands():
 # Report
 
 
-def test_report_reads_like_the_seed_appendix():
+def test_report_reads_like_the_harness_report():
     config, expected, observation = synthetic("body")
     outcome = checks.evaluate_test("body", 1, config, observation)
     started = datetime.datetime(2026, 11, 21, 16, 52, 22)
@@ -345,7 +345,7 @@ def test_report_reads_like_the_seed_appendix():
             + report.format_test(outcome) + report.format_run_footer([outcome]))
     for expected_text in ("=== New Test Run Started at 2026-11-21 16:52:22 ===",
                           "Test 2: Test Subtle Body Animate behaviour (behaviour body, iteration 1)",
-                          "Configuration Settings:", "selectedRange     : 0.5", "Joint names:",
+                          "Configuration Settings:", "selectedRange" + " " * 7 + ": 0.5", "Joint names:",
                           'leg: ["HipPitch", "HipRoll", "KneePitch"]', "Home positions",
                           "leg: [-0.1107, -0.00766, 0.03221]", "Bounds of the random positions",
                           "Random positions sent", "Positions observed while enabled (/joint_states)",

@@ -6,6 +6,8 @@ from actionlib_msgs.msg import GoalStatus
 from conftest import default_configuration
 
 from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.motion.breathing import CONTINUATION_LEAD
+from cssr_system.animate_behaviour.motion.styles import MotionStyle
 from cssr_system.animate_behaviour.motion.trajectory_timing import time_trajectory
 from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng, random_waypoints
 from cssr_system.animate_behaviour.node.foreign_motion import RESULT_GRACE
@@ -413,3 +415,22 @@ def test_a_controller_that_goes_away_and_comes_back():
     assert rig.stream.state == PartState.ANIMATING and len(rig.client.handles) == 2
     numpy.testing.assert_allclose(rig.stream.current_state(rig.now)[0], rig.measured, atol=1e-12)
     assert rig.log.events(contract.CONTROLLER_LOST) == [{"part": "RArm", "action": ACTION}]
+
+
+def test_a_continuous_style_replaces_each_goal_before_it_ends():
+    rig = Rig()
+    style = MotionStyle(default_configuration(motion_style="breathing", random_seed=2), make_rng(2))
+    rig.stream.enable(rig.motion, style.planner(rig.motion))
+    first_end = rig.goal_end_time()
+    assert rig.stream.next_deadline() == pytest.approx(first_end - CONTINUATION_LEAD)
+    rig.now = first_end - CONTINUATION_LEAD - 0.01
+    rig.stream.tick()
+    assert len(rig.client.handles) == 1
+    rig.now += 0.02
+    rig.stream.tick()
+    assert len(rig.client.handles) == 2 and not rig.client.handles[0].cancelled
+    rig.client.handles[0].finish(GoalStatus.PREEMPTED)  # replaced by ours: logged, changes nothing
+    rig.deliver()
+    assert rig.stream.state == PartState.ANIMATING and len(rig.client.handles) == 2
+    rig.stream.disable(home=True)
+    assert rig.stream.next_deadline() != pytest.approx(rig.goal_end_time() - CONTINUATION_LEAD)

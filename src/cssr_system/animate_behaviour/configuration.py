@@ -57,6 +57,7 @@ CONFIGURATION_FILE_NAME = "animateBehaviourConfiguration.ini"  # the shipped fil
 BEHAVIOURS: Tuple[str, ...] = ("body", "hands", "rotation")
 PLATFORMS: Tuple[str, ...] = ("robot", "simulator")
 ALL_BEHAVIOURS = "all"
+MOTION_STYLES = ("random", "breathing")  # motion/styles.py builds the goals of each
 # The key holding the topic file of each platform.
 PLATFORM_TOPICS_KEYS: Dict[str, str] = OrderedDict((("robot", "robotTopics"), ("simulator", "simulatorTopics")))
 LARGEST_RANDOM_SEED = 2 ** 32 - 1  # numpy's seeds are 32-bit
@@ -84,6 +85,9 @@ class Configuration(NamedTuple):
     home_on_disable: bool = True
     heading_bound: float = 0.3
     yield_quiet_time: float = 1.0
+    motion_style: str = "random"
+    breaths_per_minute: float = 12.0
+    breathing_amplitude: float = 0.6
 
 
 class ConfigurationError(ValueError):
@@ -234,6 +238,13 @@ def _format_behaviour(value: object) -> str:
     return ",".join(name for name in BEHAVIOURS if name in value)  # type: ignore[operator]
 
 
+def _motion_style(text: str) -> str:
+    lowered = text.lower()
+    if lowered not in MOTION_STYLES:
+        raise InvalidValue()
+    return lowered
+
+
 def _file_name(text: str) -> str:
     if _BLANK.search(text):
         raise InvalidValue("a file name here contains no blanks")
@@ -328,6 +339,13 @@ KEYS: Dict[str, KeySpec] = OrderedDict((spec.name, spec) for spec in (
     _key("yieldQuietTime", "yield_quiet_time", number_in(0.0, 10.0), _format_number,
          "a number of seconds in [0, 10]",
          "calm time after another node's motion of a part before the part moves again", default=1.0),
+    _key("motionStyle", "motion_style", _motion_style, str, "random or breathing",
+         "random: random positions in each joint's band; breathing: a slow breathing rhythm with coherent "
+         "variation and rare posture shifts, in the same bands", default="random"),
+    _key("breathsPerMinute", "breaths_per_minute", number_in(5.0, 20.0), _format_number,
+         "a number in [5, 20]", "the breathing style's rhythm", default=12.0),
+    _key("breathingAmplitude", "breathing_amplitude", number_in(0.0, 1.0), _format_number, _UNIT,
+         "the breathing style's amplitude, as a fraction of each joint's band", default=0.6),
 ))
 
 

@@ -99,6 +99,13 @@ def command_topic(action_namespace: str) -> str:
 # Joint speeds are capped at this fraction of each joint's maximum (the robot's driver moves at 20 %).
 SPEED_FRACTION = 0.2
 
+# The physical robot's driver, naoqi_dcm_driver (pepper_dcm.yaml): it writes the controllers' commands to NAOqi at
+# DRIVER_RATE, only when some joint's command differs from its measured angle by more than DRIVER_JOINT_PRECISION,
+# with ALMotion.setAngles(names, angles, DRIVER_SPEED_FRACTION): all controlled joints at once.
+DRIVER_RATE = 12.0  # Hz (ControllerFrequency)
+DRIVER_JOINT_PRECISION = 0.09  # rad (JointPrecision)
+DRIVER_SPEED_FRACTION = 0.2  # of each joint's maximum speed
+
 # Base yaw (NAOqi move configuration): maximum angular velocity, and the default of moveTo.
 BASE_MAX_ANGULAR_VELOCITY = 2.0  # rad/s; rotMaximumRange is a fraction of this
 BASE_MOVETO_ANGULAR_VELOCITY = 1.0  # rad/s, the speed at which moveTo turns by default

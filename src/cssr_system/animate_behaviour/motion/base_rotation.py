@@ -102,7 +102,8 @@ class BaseRotationPlanner:
     """
 
     def __init__(self, kind: str, rot_maximum_range: float, heading_bound: float,
-                 rng: numpy.random.Generator, sample_rate: float = DEFAULT_SAMPLE_RATE) -> None:
+                 rng: numpy.random.Generator, sample_rate: float = DEFAULT_SAMPLE_RATE,
+                 pause_range: Tuple[float, float] = PAUSE_RANGE) -> None:
         if kind not in KINDS:
             raise ValueError("wheels command kind must be one of %s, got %r" % (KINDS, kind))
         if not 0.0 <= rot_maximum_range <= 1.0:
@@ -115,6 +116,7 @@ class BaseRotationPlanner:
         self.rot_maximum_range = float(rot_maximum_range)
         self.heading_bound = float(heading_bound)
         self.period = 1.0 / float(sample_rate)
+        self.pause_range = pause_range
         self._rng = rng
         self._heading = 0.0
         assert self.period < BASE_VELOCITY_COMMAND_TIMEOUT  # guaranteed by MIN_SAMPLE_RATE
@@ -150,7 +152,7 @@ class BaseRotationPlanner:
         if self.peak_speed <= 0.0 or self.heading_bound <= 0.0:
             return None
         target = self._draw_target()
-        pause = float(self._rng.uniform(*PAUSE_RANGE))
+        pause = float(self._rng.uniform(*self.pause_range))
         return self._step_to(target, pause, stretch=float(self._rng.uniform(*MOTION_TIME_STRETCH)))
 
     def return_step(self) -> Optional[RotationStep]:

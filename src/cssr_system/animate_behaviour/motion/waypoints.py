@@ -14,7 +14,7 @@ is filled with the centre; points left over after the last chunk are the centre 
 
 Pure Python and numpy: no ROS import, so the node, the simulator and the tests share it.
 """
-from typing import Iterable, NamedTuple, Optional, Tuple
+from typing import Iterable, List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy
 
@@ -153,3 +153,17 @@ def random_waypoints(motion: PartMotion, config, rng: numpy.random.Generator) ->
 def make_rng(seed: Optional[int]) -> numpy.random.Generator:
     """A random generator: reproducible with a seed, fresh entropy with None."""
     return numpy.random.default_rng(seed)
+
+
+def narrow_bands(motions: Sequence[PartMotion], precision: float) -> List[str]:
+    """One line per moving joint whose band is narrower than `precision` (the real robot's driver does not move
+    a joint for a smaller change unless another joint's change makes it write: README: "Motion styles")."""
+    lines = []
+    for motion in motions:
+        for bounds, moving in zip(motion.bounds, motion.moving):
+            width = bounds.upper - bounds.lower
+            if moving and width < precision:
+                lines.append("%s moves within %.3f rad, less than the robot driver's %.2f rad dead band: on the "
+                             "robot it moves only when another joint's motion makes the driver write"
+                             % (bounds.name, width, precision))
+    return lines

@@ -59,11 +59,12 @@ class BaseStream:
         self._step_ends_at = 0.0
         self._next_sample = 0  # index of the next velocity sample to publish
 
-    def start(self, config: Configuration, rng, now: float, log: EventLog) -> None:
+    def start(self, config: Configuration, style, rng, now: float, log: EventLog) -> None:
         # Keep the frame of a rotation or return still under way; otherwise start from heading 0.
         keep = self.planner is not None and (self.state != BaseState.IDLE or self._step is not None)
         heading = self.planner.heading if keep else 0.0
-        self.planner = BaseRotationPlanner(self.kind, config.rot_maximum_range, config.heading_bound, rng)
+        self.planner = BaseRotationPlanner(self.kind, config.rot_maximum_range * style.base_speed_share,
+                                           config.heading_bound, rng, pause_range=style.base_pauses)
         self.planner.set_heading(heading)
         self.foreign.quiet_time = config.yield_quiet_time
         if self.state == BaseState.YIELDING:

@@ -301,6 +301,8 @@ class PartStream:
             if self.foreign.calm(now):
                 self._resume(now)
             return
+        if self._continuation_due(now):
+            self._send_animation("continuing the motion")
         if self.overdue(now):
             self._warn("%s: no result for the %s goal; sending the next one.", NODE_NAME, self.part)
             self._log.write(contract.ERROR, where=self.part, message="goal result lost")
@@ -310,9 +312,23 @@ class PartStream:
             if self.state == PartState.WAITING:
                 self._send_animation("retry")
 
+    def _continuation_at(self) -> Optional[float]:
+        """When a continuous style's goal is replaced by the next, before it ends (a goal that ends moving would be
+        aborted by the controller's stopped-velocity tolerance)."""
+        lead = getattr(self._plan, "continuation_lead", None)
+        if lead is None or self.state != PartState.ANIMATING or self.sent_purpose != PURPOSE_ANIMATE:
+            return None
+        return self._sent.spline.end_time - lead
+
+    def _continuation_due(self, now: float) -> bool:
+        at = self._continuation_at()
+        return at is not None and now >= at
+
     def next_deadline(self) -> Optional[float]:
         """When `tick` next has something to do, on the stream's clock (None: nothing planned)."""
         deadlines = [self.retry_at] if self.retry_at is not None else []
+        if self._continuation_at() is not None:
+            deadlines.append(self._continuation_at())
         if self.state == PartState.YIELDING:
             deadline = self.foreign.next_deadline(self._clock())
             if deadline is not None:

@@ -15,9 +15,8 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import Configuration, configuration_items
 from cssr_system.animate_behaviour.contract import NODE_NAME, JOINT_STATES_TOPIC
 from cssr_system.animate_behaviour.event_log import EventLog, default_log_path
-from cssr_system.animate_behaviour.motion.trajectory_timing import time_trajectory
-from cssr_system.animate_behaviour.motion.waypoints import (animated_parts, make_rng, random_waypoints,
-                                                            PartMotion)
+from cssr_system.animate_behaviour.motion.styles import MotionStyle
+from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng, narrow_bands
 from cssr_system.animate_behaviour.node.base_stream import BaseStream
 from cssr_system.animate_behaviour.node.controller_watcher import ControllerWatcher
 from cssr_system.animate_behaviour.node.events import (ControllerConnected, Disable, Enable, GoalDone,
@@ -26,12 +25,12 @@ from cssr_system.animate_behaviour.node.events import (ControllerConnected, Disa
 from cssr_system.animate_behaviour.node.foreign_motion import GOAL
 from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch
 from cssr_system.animate_behaviour.node.joint_states import JointStateCache
-from cssr_system.animate_behaviour.node.part_stream import PartStream, Planner, rehearse, action_client
+from cssr_system.animate_behaviour.node.part_stream import PartStream, rehearse, action_client
 from cssr_system.animate_behaviour.node.services import ActivationServices
 from cssr_system.animate_behaviour.node.status import StatusPublisher
 from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.package_files import package_dir, package_version
-from cssr_system.pepper.joint_table import PARTS
+from cssr_system.pepper.joint_table import PARTS, DRIVER_JOINT_PRECISION
 
 
 HEARTBEAT_PERIOD = 10.0  # s between "running." lines on the console
@@ -86,8 +85,9 @@ class AnimateBehaviour:
 
     def _rehearse(self, config: Configuration, topics: Dict[str, str]) -> None:
         self.rng = make_rng(config.random_seed)
+        style = MotionStyle(config, self.rng)
         for motion in animated_parts(config, [key for key in topics if key in PARTS]):
-            rehearse(motion.part, self._planner(motion, config))
+            rehearse(motion.part, style.planner(motion))
 
     @staticmethod
     def apply_verbosity(config: Configuration) -> None:
@@ -199,29 +199,24 @@ class AnimateBehaviour:
         for stream in list(self.parts.values()):
             if stream.active and (stream.part not in motions or stream.action != topics.get(stream.part)):
                 stream.disable(config.home_on_disable)
+        if config.platform == "robot":
+            for line in narrow_bands(list(motions.values()), DRIVER_JOINT_PRECISION):
+                rospy.logwarn("%s: %s.", NODE_NAME, line)
+        style = MotionStyle(config, self.rng)
         for key, motion in motions.items():
-            self._stream_for(key, topics[key]).enable(motion, self._planner(motion, config), config.yield_quiet_time)
+            self._stream_for(key, topics[key]).enable(motion, style.planner(motion), config.yield_quiet_time)
         wheels = topics.get(WHEELS_KEY) if "rotation" in config.behaviour else None
         if self.active_base is not None and self.active_base.topic != wheels:
             self.active_base.stop(config.home_on_disable, self.clock(), self.log)
             self.active_base = None
         if wheels is not None:
             self.active_base = self._base_for(wheels)
-            self.active_base.start(config, self.rng, self.clock(), self.log)
+            self.active_base.start(config, style, self.rng, self.clock(), self.log)
         self.enabled = True
         self.log.write(contract.BEHAVIOUR_STARTED, behaviour=sorted(config.behaviour),
                        platform=config.platform, parts=sorted(motions), wheels=wheels,
                        reconfigured=reconfigured)
         rospy.loginfo("%s: animating %s.", NODE_NAME, ", ".join(sorted(motions) + ([WHEELS_KEY] if wheels else [])))
-
-    def _planner(self, motion: PartMotion, config: Configuration) -> Planner:
-        """The next animation goal of a part: random waypoints, timed smoothly from the current state."""
-        joints = PARTS[motion.part].joints
-
-        def plan(now, positions, velocities, accelerations):
-            return time_trajectory(random_waypoints(motion, config, self.rng), joints, positions, velocities,
-                                   config.gesture_duration, start_accelerations=accelerations)
-        return plan
 
     def _disable(self, reason: str) -> None:
         if not self.enabled:

@@ -1,0 +1,179 @@
+"""The breathing motion style (README: "Motion styles"): a slow breathing rhythm with coherent variation.
+
+Every moving joint j follows, at absolute time t, ``q_j(t) = m_j + h_j * k_j * s_j(t)``, where m_j and h_j are
+the middle and half-width of its band (`waypoints.joint_bounds`: selectedRange and the *MaximumRange keys keep
+their meaning), k_j <= breathingAmplitude its amplitude, and s_j(t), always within [-1, 1], the weighted sum of
+
+- the breath: ``sin(2 pi f t - lag_j)`` with f = breathsPerMinute / 60; shoulders and hip lead, elbows, wrists
+  and hands follow with a lag;
+- coherent variation: three octaves of incommensurate sines between about 0.03 and 0.3 Hz with random phases,
+  so the motion never repeats exactly;
+- posture shifts (hip and hands only): at random intervals of 10-30 s a slow (4 s) C2 smooth step to a new
+  random level: a weight shift, the hands opening or closing.
+
+The same joint on both sides shares its phases and shifts: the two sides move together (roll and yaw joints
+mirrored, as their limits are). Held joints stay exactly at their centre. Each joint's amplitude is lowered
+where needed so that its speed stays under the cap (`trajectory_timing.speed_caps`) with a margin.
+
+A goal samples q, q' and q'' exactly every POINT_SPACING seconds for GOAL_BREATHS breaths; its first point is
+far enough from the part's current state (which may be anywhere after another node's gesture) for the
+controller's quintic splice to stay under the cap. The node replaces each goal CONTINUATION_LEAD seconds
+before it ends (`BreathingPlanner.continuation_lead`), so the motion is C2 continuous and never stops.
+Pure Python and numpy.
+"""
+import math
+from typing import Dict, List, Tuple
+
+import numpy
+
+from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory, speed_caps
+from cssr_system.animate_behaviour.motion.waypoints import PartMotion
+from cssr_system.pepper.joint_table import short_name
+
+POINT_SPACING = 0.2  # s between the points of a goal
+GOAL_BREATHS = 3  # breaths per goal
+CONTINUATION_LEAD = 1.5  # s before a goal's end when the next one replaces it
+SPEED_MARGIN = 0.8  # fraction of the speed cap the style may use
+BREATH_WEIGHT, VARIATION_WEIGHT, SHIFT_WEIGHT = 0.6, 0.3, 0.1  # shares of s_j for joints with posture shifts
+VARIATION_FREQUENCIES = (0.031, 0.031 * 3.1416, 0.031 * 9.8696)  # Hz: octaves apart, incommensurate
+VARIATION_SHARES = (0.57, 0.29, 0.14)
+SHIFT_INTERVAL = (10.0, 30.0)  # s between posture shifts
+SHIFT_DURATION = 4.0  # s a shift takes
+# Phase lag (rad) and amplitude factor of each joint (short name): shoulders and hip lead, the rest follows.
+LAG = {"ShoulderPitch": 0.0, "ShoulderRoll": 0.0, "HipPitch": 0.0, "HipRoll": 0.0, "KneePitch": 0.3,
+       "ElbowRoll": 0.6, "ElbowYaw": 0.6, "WristYaw": 0.9, "Hand": 1.1}
+AMPLITUDE = {"ShoulderPitch": 1.0, "ShoulderRoll": 0.8, "HipPitch": 1.0, "HipRoll": 0.6, "KneePitch": 1.0,
+             "ElbowRoll": 0.9, "ElbowYaw": 0.7, "WristYaw": 0.6, "Hand": 0.8}
+SHIFTING = ("HipPitch", "HipRoll", "Hand")  # joints with posture shifts
+MIRRORED = ("ShoulderRoll", "ElbowRoll", "ElbowYaw", "WristYaw")  # the right side moves as the left's mirror
+SMOOTHSTEP_PEAK_SLOPE = 1.875  # the peak of d/dx of 6x^5 - 15x^4 + 10x^3
+
+
+def _smoothstep(x: float) -> Tuple[float, float, float]:
+    """6x^5 - 15x^4 + 10x^3 on [0, 1] and its first two derivatives (C2 at both ends)."""
+    if x <= 0.0:
+        return 0.0, 0.0, 0.0
+    if x >= 1.0:
+        return 1.0, 0.0, 0.0
+    return (x ** 3 * (10 - 15 * x + 6 * x * x), 30 * x * x * (1 - x) ** 2, 60 * x * (1 - x) * (1 - 2 * x))
+
+
+class PostureShifts:
+    """Random levels in [-1, 1] reached by smooth steps at random times: a function of time, made as time goes."""
+
+    def __init__(self, rng: numpy.random.Generator) -> None:
+        self._rng = rng
+        self._starts: List[float] = [float(rng.uniform(*SHIFT_INTERVAL))]
+        self._levels: List[float] = [0.0, float(rng.uniform(-1.0, 1.0))]  # before and after each shift
+
+    def sample(self, t: float) -> Tuple[float, float, float]:
+        while self._starts[-1] <= t:
+            self._starts.append(self._starts[-1] + SHIFT_DURATION + float(self._rng.uniform(*SHIFT_INTERVAL)))
+            self._levels.append(float(self._rng.uniform(-1.0, 1.0)))
+        index = sum(1 for start in self._starts if start + SHIFT_DURATION <= t)  # shifts already complete
+        start = self._starts[index]
+        before, after = self._levels[index], self._levels[index + 1]
+        value, slope, curve = _smoothstep((t - start) / SHIFT_DURATION)
+        span = after - before
+        return before + span * value, span * slope / SHIFT_DURATION, span * curve / SHIFT_DURATION ** 2
+
+
+class BreathingMotion:
+    """q, q', q'' of every joint of one part at absolute times: the breathing style's function of time."""
+
+    def __init__(self, motion: PartMotion, breaths_per_minute: float, amplitude: float,
+                 shared: Dict[str, object], rng: numpy.random.Generator) -> None:
+        self.motion = motion
+        self.frequency = breaths_per_minute / 60.0
+        self._terms = []
+        caps = speed_caps(motion.joints)
+        for index, (bounds, moving) in enumerate(zip(motion.bounds, motion.moving)):
+            name = short_name(bounds.name)
+            middle, half_width = (bounds.lower + bounds.upper) / 2.0, (bounds.upper - bounds.lower) / 2.0
+            if not moving or half_width <= 0.0:
+                self._terms.append((bounds.centre, 0.0, 0.0, 1.0, name))
+                continue
+            # Both sides share phases and shifts: drawn once per joint name, for whichever side comes first.
+            if name not in shared:
+                shared[name] = (rng.uniform(0.0, 2 * math.pi, len(VARIATION_FREQUENCIES)),
+                                PostureShifts(rng) if name in SHIFTING else None)
+            sign = -1.0 if name in MIRRORED and bounds.name.startswith("R") else 1.0
+            weights = self._weights(name)
+            peak_speed = half_width * (weights[0] * 2 * math.pi * self.frequency + weights[1] * sum(
+                share * 2 * math.pi * f for share, f in zip(VARIATION_SHARES, VARIATION_FREQUENCIES)) +
+                weights[2] * 2.0 * SMOOTHSTEP_PEAK_SLOPE / SHIFT_DURATION)
+            scale = min(amplitude * AMPLITUDE.get(name, 1.0), SPEED_MARGIN * caps[index] / peak_speed)
+            self._terms.append((middle, half_width * scale, LAG.get(name, 0.0), sign, name))
+        self._shared = shared
+
+    @staticmethod
+    def _weights(name: str) -> Tuple[float, float, float]:
+        if name in SHIFTING:
+            return BREATH_WEIGHT, VARIATION_WEIGHT, SHIFT_WEIGHT
+        total = BREATH_WEIGHT + VARIATION_WEIGHT
+        return BREATH_WEIGHT / total, VARIATION_WEIGHT / total, 0.0
+
+    def sample(self, t: float) -> Tuple[numpy.ndarray, numpy.ndarray, numpy.ndarray]:
+        positions, velocities, accelerations = [], [], []
+        omega = 2 * math.pi * self.frequency
+        for middle, radius, lag, sign, name in self._terms:
+            if radius == 0.0:
+                positions.append(middle)
+                velocities.append(0.0)
+                accelerations.append(0.0)
+                continue
+            breath_weight, variation_weight, shift_weight = self._weights(name)
+            phase = omega * t - lag
+            s = breath_weight * math.sin(phase)
+            ds = breath_weight * omega * math.cos(phase)
+            dds = -breath_weight * omega * omega * math.sin(phase)
+            phases, shifts = self._shared[name]
+            for share, frequency, offset in zip(VARIATION_SHARES, VARIATION_FREQUENCIES, phases):
+                w = 2 * math.pi * frequency
+                s += variation_weight * share * math.sin(w * t + offset)
+                ds += variation_weight * share * w * math.cos(w * t + offset)
+                dds -= variation_weight * share * w * w * math.sin(w * t + offset)
+            if shifts is not None:
+                level, slope, curve = shifts.sample(t)
+                s, ds, dds = s + shift_weight * level, ds + shift_weight * slope, dds + shift_weight * curve
+            positions.append(middle + sign * radius * s)
+            velocities.append(sign * radius * ds)
+            accelerations.append(sign * radius * dds)
+        return numpy.array(positions), numpy.array(velocities), numpy.array(accelerations)
+
+
+def blend_time(start: numpy.ndarray, start_velocities: numpy.ndarray, target: numpy.ndarray,
+               target_velocities: numpy.ndarray, caps: numpy.ndarray) -> float:
+    """A duration for the controller's quintic from a state to a point of the function that keeps every joint
+    under its cap: the rest-to-rest quintic peaks at 1.875 * distance / T; velocities at the ends add to it."""
+    distance = numpy.abs(target - start)
+    carried = numpy.maximum(numpy.abs(start_velocities), numpy.abs(target_velocities))
+    room = numpy.maximum(SPEED_MARGIN * caps - carried, 0.25 * caps)
+    return float(numpy.max(SMOOTHSTEP_PEAK_SLOPE * distance / room))
+
+
+class BreathingPlanner:
+    """The breathing style's `Planner` of one part (see node/part_stream.py): goals sampled from the function."""
+
+    continuation_lead = CONTINUATION_LEAD  # the node replaces each goal this long before its end
+
+    def __init__(self, motion: PartMotion, config, shared: Dict[str, object], rng: numpy.random.Generator,
+                 epoch: Dict[str, float]) -> None:
+        self.function = BreathingMotion(motion, config.breaths_per_minute, config.breathing_amplitude, shared, rng)
+        self.caps = speed_caps(motion.joints)
+        self.goal_length = GOAL_BREATHS / self.function.frequency
+        self._epoch = epoch  # shared by the parts of one enable: t = now - epoch keeps the numbers small
+
+    def __call__(self, now: float, positions, velocities, accelerations) -> TimedTrajectory:
+        origin = self._epoch.setdefault("t", now)
+        first = POINT_SPACING
+        for _ in range(3):  # the target moves with the blend time: settle it
+            target, target_velocities, _ = self.function.sample(now - origin + first)
+            needed = blend_time(numpy.asarray(positions), numpy.asarray(velocities), target, target_velocities,
+                                self.caps)
+            first = max(POINT_SPACING, math.ceil(needed / POINT_SPACING) * POINT_SPACING)
+        count = int(round(self.goal_length / POINT_SPACING))
+        times = first + POINT_SPACING * numpy.arange(count)
+        samples = [self.function.sample(now - origin + time) for time in times]
+        return TimedTrajectory(times, numpy.array([s[0] for s in samples]), numpy.array([s[1] for s in samples]),
+                               numpy.array([s[2] for s in samples]))
