@@ -7,6 +7,7 @@
 #   make demo                         30 s, the robot's interface of the simulated Pepper (with hands)
 #   make demo DURATION=10 PLATFORM=simulator BEHAVIOUR=hands OUTPUT_DIR=/tmp/demo GESTURE=1
 #   make demo NODE_ARGS="_gestureDuration:=1.5" SIM_ARGS="_feedback_rate:=20"
+#   make demo STYLE=breathing DRIVER=naoqi_dcm   (the breathing style, executed as the robot's driver would)
 # Environment (what the make variables set): DEMO_DURATION (s, default 30), DEMO_PLATFORM (robot or
 # simulator, default robot), DEMO_BEHAVIOUR (default all), DEMO_OUTPUT_DIR (default: the workspace's demo
 # folder), DEMO_GESTURE (1: a gesture on the right arm half-way), DEMO_NODE_ARGS and DEMO_SIM_ARGS
@@ -41,6 +42,9 @@ private_parameters() {
   done
   echo "${result[*]:-}"
 }
+# STYLE and DRIVER are shortcuts for the node's motionStyle and the simulated Pepper's driver model.
+[ -z "${DEMO_STYLE:-}" ] || DEMO_NODE_ARGS="${DEMO_NODE_ARGS:-} _motionStyle:=$DEMO_STYLE"
+[ -z "${DEMO_DRIVER:-}" ] || DEMO_SIM_ARGS="${DEMO_SIM_ARGS:-} _driver:=$DEMO_DRIVER"
 # The launch file reads them from the environment (roslaunch refuses ':=' in an arg's value).
 DEMO_NODE_ARGS=$(private_parameters "${DEMO_NODE_ARGS:-}" NODE_ARGS)
 DEMO_SIM_ARGS=$(private_parameters "${DEMO_SIM_ARGS:-}" SIM_ARGS)

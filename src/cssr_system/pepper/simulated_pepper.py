@@ -30,10 +30,12 @@ from typing import Any, Dict, List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy
 
-from cssr_system.pepper.joint_table import (ACTION_NAME, RELATIVE, wheels_command_kind, BASE_MAX_ANGULAR_ACCELERATION,
-                                            BASE_MAX_ANGULAR_VELOCITY, BASE_MOVETO_ANGULAR_VELOCITY,
-                                            BASE_MOVETO_SETTLE_TIME, BASE_VELOCITY_COMMAND_TIMEOUT,
-                                            CONTROLLER_NAMES, HEAD_PART, JOINTS, PARTS, WHEEL_JOINTS, Part)
+from cssr_system.pepper.joint_table import (DRIVER_JOINT_PRECISION, DRIVER_RATE, DRIVER_SPEED_FRACTION,
+                                            ACTION_NAME, RELATIVE, wheels_command_kind,
+                                            BASE_MAX_ANGULAR_ACCELERATION, BASE_MAX_ANGULAR_VELOCITY,
+                                            BASE_MOVETO_ANGULAR_VELOCITY, BASE_MOVETO_SETTLE_TIME,
+                                            BASE_VELOCITY_COMMAND_TIMEOUT, CONTROLLER_NAMES, HEAD_PART,
+                                            JOINTS, PARTS, WHEEL_JOINTS, Part)
 from cssr_system.pepper.trajectory_interpolation import (JointTrajectorySpline, TrajectoryError,
                                                          TrajectoryPoint)
 
@@ -468,11 +470,56 @@ class JointStateSample(NamedTuple):
     velocities: List[float]
 
 
+IDEAL, NAOQI_DCM = "ideal", "naoqi_dcm"
+DRIVERS = (IDEAL, NAOQI_DCM)
+
+
+class NaoqiDcmDriver:
+    """What the physical robot's driver makes of the controllers' commands (joint_table's DRIVER_* facts): every
+    1 / DRIVER_RATE s, when some joint's command differs from its measured angle by more than
+    DRIVER_JOINT_PRECISION, it sends all joints' commands at once (ALMotion.setAngles at DRIVER_SPEED_FRACTION of
+    their maximum speed); each joint then moves toward its last sent command at that speed and stops there."""
+
+    def __init__(self, joint_names: Sequence[str], positions: Sequence[float], now: float) -> None:
+        self.joint_names = tuple(joint_names)
+        self.positions = numpy.array(positions, dtype=float)
+        self.velocities = numpy.zeros(len(self.joint_names))
+        self.sent = self.positions.copy()
+        self.speeds = numpy.array([JOINTS[name].max_velocity * DRIVER_SPEED_FRACTION for name in self.joint_names])
+        self.writes = 0
+        self._time = now
+        self._next_write = now
+
+    def update(self, commanded: Sequence[float], now: float) -> Tuple[numpy.ndarray, numpy.ndarray]:
+        """The executed positions and velocities at `now`, given what the controllers command now."""
+        commanded = numpy.asarray(commanded, dtype=float)
+        while self._next_write <= now:
+            self._advance(self._next_write)
+            if numpy.any(numpy.abs(commanded - self.positions) > DRIVER_JOINT_PRECISION):
+                self.sent = commanded.copy()
+                self.writes += 1
+            self._next_write += 1.0 / DRIVER_RATE
+        self._advance(now)
+        return self.positions.copy(), self.velocities.copy()
+
+    def _advance(self, t: float) -> None:
+        elapsed = t - self._time
+        if elapsed <= 0.0:
+            return
+        step = numpy.clip(self.sent - self.positions, -self.speeds * elapsed, self.speeds * elapsed)
+        self.positions += step
+        self.velocities = step / elapsed
+        self._time = t
+
+
 class SimulatedPepper:
-    """All controllers of a platform, the fixed joints, and the base."""
+    """All controllers of a platform, the fixed joints, and the base; with `driver` NAOQI_DCM, the joints move as
+    the physical robot's driver moves them (`NaoqiDcmDriver`), otherwise exactly as the controllers command."""
 
     def __init__(self, platform: str = "robot", initial_posture: str = "rest", now: float = 0.0,
-                 moveto_keep_latest: bool = False) -> None:
+                 moveto_keep_latest: bool = False, driver: str = IDEAL) -> None:
+        if driver not in DRIVERS:
+            raise ValueError("unknown driver {!r} (expected one of: {})".format(driver, ", ".join(DRIVERS)))
         if platform not in PLATFORMS:
             raise ValueError("unknown platform {!r} (expected one of: {})".format(platform, ", ".join(PLATFORMS)))
         self.platform = PLATFORMS[platform]
@@ -485,6 +532,9 @@ class SimulatedPepper:
                        if key not in self.controllers
                        for joint, position in zip(part_.joints, part_.centre)}
         self.joint_names: Tuple[str, ...] = tuple(JOINTS) + WHEEL_JOINTS
+        self.driver: Optional[NaoqiDcmDriver] = None
+        if driver == NAOQI_DCM:  # the joints (the wheels are the base's)
+            self.driver = NaoqiDcmDriver(tuple(JOINTS), self.commanded_state(now).positions[:len(JOINTS)], now)
         if self.platform.base_kind == RELATIVE:
             self.base: Any = MoveToBase(now=now, keep_latest=moveto_keep_latest)
         else:
@@ -500,7 +550,17 @@ class SimulatedPepper:
         return outcomes
 
     def joint_state(self, now: float) -> JointStateSample:
-        """Position and velocity of every joint (JOINTS order, then the wheels)."""
+        """Position and velocity of every joint (JOINTS order, then the wheels): what the robot does."""
+        commanded = self.commanded_state(now)
+        if self.driver is None:
+            return commanded
+        count = len(JOINTS)
+        positions, velocities = self.driver.update(commanded.positions[:count], now)
+        return JointStateSample(commanded.names, positions.tolist() + commanded.positions[count:],
+                                velocities.tolist() + commanded.velocities[count:])
+
+    def commanded_state(self, now: float) -> JointStateSample:
+        """What the controllers command for every joint (JOINTS order, then the wheels)."""
         positions = dict((joint, 0.0) for joint in WHEEL_JOINTS)
         velocities = dict((joint, 0.0) for joint in self.joint_names)
         positions.update(self._fixed)

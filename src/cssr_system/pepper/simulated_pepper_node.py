@@ -9,6 +9,8 @@ Parameters (private):
   ~moveto_keep_latest  false (default): cmd_moveto commands arriving while the base turns or settles are
                        dropped; true: the latest of them runs when the base is free (a queue of one)
   ~feedback_rate       Hz of action feedback for active goals (default 10; 0: none)
+  ~driver              "ideal" (default: the joints move exactly as the controllers command) or "naoqi_dcm" (as the
+                       physical robot's driver moves them: 12 Hz writes, 0.09 rad dead band, 20 % speed)
 Serves:
   <ns>/<Name>_controller/follow_joint_trajectory   control_msgs/FollowJointTrajectory (ActionServer)
   <ns>/<Name>_controller/command                   trajectory_msgs/JointTrajectory (subscribed, obeyed like a goal)
@@ -17,6 +19,7 @@ Publishes:
   /joint_states        sensor_msgs/JointState, 50 Hz, every joint and the wheels
   <ns>/odom            nav_msgs/Odometry, 50 Hz, base heading (frame odom, child base_footprint)
   ~limit_violations    std_msgs/UInt32, latched: goal point values beyond a joint limit so far
+  ~commanded_joint_states  sensor_msgs/JointState, 50 Hz, with ~driver naoqi_dcm: what the controllers command
 """
 import functools
 import threading
@@ -31,9 +34,10 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import UInt32
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
+from cssr_system.pepper.joint_table import command_topic, JOINTS, WHEEL_JOINTS
 from cssr_system.pepper.simulated_pepper import (PLATFORMS, POSTURES, GoalPoint, SimulatedPepper,
-                                                 action_namespace, base_topic, odometry_topic, yaw_quaternion)
-from cssr_system.pepper.joint_table import command_topic
+                                                 action_namespace, base_topic, odometry_topic,
+                                                 yaw_quaternion, DRIVERS, IDEAL)
 
 NODE_NAME = "simulatedPepper"
 UPDATE_RATE = 50.0  # Hz: controllers, /joint_states and odometry
@@ -41,13 +45,14 @@ MAX_VIOLATIONS_LOGGED = 4  # per goal, so one bad goal makes one readable warnin
 
 
 class SimulatedPepperNode:
-    def __init__(self, platform: str, initial_posture: str, moveto_keep_latest: bool, feedback_rate: float):
+    def __init__(self, platform: str, initial_posture: str, moveto_keep_latest: bool, feedback_rate: float,
+                 driver: str = IDEAL):
         # The model's clock starts at 0 at start-up: small numbers keep the splines' arithmetic exact.
         self._epoch = rospy.get_time()
         # Guards the model. Lock order: an action server's own lock first (actionlib holds it around our
         # callbacks), then this one; never the reverse, so goal handles are used without this lock.
         self._lock = threading.Lock()
-        self.model = SimulatedPepper(platform, initial_posture, self._now(), moveto_keep_latest)
+        self.model = SimulatedPepper(platform, initial_posture, self._now(), moveto_keep_latest, driver)
         self.platform = self.model.platform
         self._feedback_period = 1.0 / feedback_rate if feedback_rate > 0 else None
         self._next_feedback = 0.0
@@ -55,6 +60,9 @@ class SimulatedPepperNode:
         self._violation_lock = threading.Lock()
 
         self.joint_state_publisher = rospy.Publisher("/joint_states", JointState, queue_size=10)
+        # With the robot's driver modelled, /joint_states is what the driver executes; this is what was commanded.
+        self.commanded_publisher = rospy.Publisher("~commanded_joint_states", JointState, queue_size=10)
+        self._commanded = JointState(name=list(JOINTS) + list(WHEEL_JOINTS))
         self.odometry_publisher = rospy.Publisher(odometry_topic(self.platform), Odometry, queue_size=10)
         self.violation_publisher = rospy.Publisher("~limit_violations", UInt32, queue_size=1, latch=True)
         self._publish_violations()
@@ -188,6 +196,13 @@ class SimulatedPepperNode:
         self._joint_state.position = joints.positions
         self._joint_state.velocity = joints.velocities
         self.joint_state_publisher.publish(self._joint_state)
+        if self.model.driver is not None:
+            with self._lock:
+                commanded = self.model.commanded_state(now)
+            self._commanded.header.stamp = stamp
+            self._commanded.position = commanded.positions
+            self._commanded.velocity = commanded.velocities
+            self.commanded_publisher.publish(self._commanded)
         self._odometry.header.stamp = stamp
         orientation = self._odometry.pose.pose.orientation
         orientation.x, orientation.y, orientation.z, orientation.w = yaw_quaternion(base.heading)
@@ -224,7 +239,11 @@ def main() -> int:
         rospy.logfatal("%s: ~platform must be one of %s (got %r) and ~initial_posture one of %s (got %r)", NODE_NAME,
                        ", ".join(PLATFORMS), platform, ", ".join(POSTURES), initial_posture)
         return 2
+    driver = rospy.get_param("~driver", IDEAL)
+    if driver not in DRIVERS:
+        rospy.logfatal("%s: ~driver must be one of %s (got %r)", NODE_NAME, ", ".join(DRIVERS), driver)
+        return 2
     SimulatedPepperNode(platform, initial_posture, bool(rospy.get_param("~moveto_keep_latest", False)),
-                        float(rospy.get_param("~feedback_rate", 10.0)))
+                        float(rospy.get_param("~feedback_rate", 10.0)), driver)
     rospy.spin()
     return 0
