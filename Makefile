@@ -1,5 +1,5 @@
 # The two commands of the README, and the steps they are made of.
-.PHONY: demo test benchmark setup build clean
+.PHONY: demo test benchmark motion-report setup build clean
 
 # make demo DURATION=10 PLATFORM=simulator BEHAVIOUR=hands OUTPUT_DIR=/tmp/demo GESTURE=1
 #           STYLE=breathing DRIVER=naoqi_dcm NODE_ARGS="_gestureDuration:=1.5" SIM_ARGS="..."
@@ -15,6 +15,10 @@ test:
 
 benchmark:
 	bash tools/benchmark.sh
+
+# What a person sees of each motion style, on the ideal controller and on the robot's driver (README: "Motion styles").
+motion-report:
+	bash tools/motion_report.sh
 
 setup:
 	bash tools/setup.sh

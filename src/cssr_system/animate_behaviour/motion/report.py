@@ -1,0 +1,148 @@
+"""What a person will see: figures of each motion style on the ideal controller and on the robot's driver
+(`make motion-report`, README: "Motion styles").
+
+A run is computed, not recorded: the style's planners (`styles.MotionStyle`) give each part's goals, chained as the
+node chains them (the random style's next goal when the previous one ends, the breathing style's before it ends),
+each starting from what the controller executes; the controller's interpolation
+(`pepper.trajectory_interpolation`) gives the commanded joints at 50 Hz; with the driver, `NaoqiDcmDriver` (the
+physical robot's naoqi_dcm_driver: 12 Hz writes past a 0.09 rad dead band, 20 % speed) turns them into what the
+robot executes. Deterministic for a seed; a minute takes about a second. Pure Python and numpy.
+"""
+import argparse
+import sys
+from typing import Dict, List, NamedTuple, Sequence, Tuple
+
+import numpy
+
+from cssr_system.animate_behaviour.configuration import load_configuration, shipped_configuration_path
+from cssr_system.animate_behaviour.motion.styles import MotionStyle
+from cssr_system.animate_behaviour.motion.trajectory_timing import to_points
+from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng
+from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, PARTS, short_name
+from cssr_system.pepper.simulated_pepper import NaoqiDcmDriver
+from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
+
+SAMPLE_RATE = 50.0  # Hz
+MOVING_SPEED = 0.005  # rad/s (unit/s for a hand): a joint slower than this counts as still
+PERIOD_RANGE = (1.0, 30.0)  # s: the periods a person reads as a rhythm
+MIRRORED = ("ShoulderRoll", "ElbowRoll", "ElbowYaw", "WristYaw")  # right = -left when both sides move together
+
+
+class JointFigures(NamedTuple):
+    joint: str
+    peak_to_peak: float  # executed, rad (opening for a hand)
+    moving: float  # fraction of the time it moves
+    period: float  # s, the dominant period in PERIOD_RANGE
+    autocorrelation: float  # at that period: 1 repeats itself, 0 does not
+    rms_speed: float
+    rms_jerk: float
+    side_correlation: float  # with the same joint of the other side (mirrored where the limits are); nan: none
+    visible: bool  # peak to peak >= the driver's dead band
+
+
+def commanded_run(config, seconds: float, seed: int) -> Tuple[numpy.ndarray, Tuple[str, ...], numpy.ndarray]:
+    """(times, joint names, commanded positions (times x joints)) of the parts the configuration animates."""
+    style = MotionStyle(config, make_rng(seed))
+    times = numpy.arange(0.0, seconds, 1.0 / SAMPLE_RATE)
+    names, columns = [], []
+    for motion in animated_parts(config, tuple(PARTS)):
+        plan = style.planner(motion)
+        lead = getattr(plan, "continuation_lead", 0.0)
+        state = (numpy.array(PARTS[motion.part].centre, dtype=float), numpy.zeros(len(motion.joints)),
+                 numpy.zeros(len(motion.joints)))
+        now, pieces = 0.0, []
+        while now < seconds:
+            spline = JointTrajectorySpline(*state, to_points(plan(now, *state)), start_time=now)
+            pieces.append((now, spline))
+            now = spline.end_time - lead
+            state = tuple(numpy.asarray(values, dtype=float) for values in spline.sample(now))
+        starts = numpy.array([start for start, _ in pieces])
+        rows = [pieces[numpy.searchsorted(starts, moment, side="right") - 1][1].sample(moment)[0] for moment in times]
+        names += list(motion.joints)
+        columns.append(numpy.array(rows))
+    return times, tuple(names), numpy.hstack(columns)
+
+
+def executed_by_driver(times: numpy.ndarray, names: Sequence[str], commanded: numpy.ndarray) -> numpy.ndarray:
+    driver = NaoqiDcmDriver(names, commanded[0], times[0])
+    return numpy.array([driver.update(row, moment)[0] for moment, row in zip(times, commanded)])
+
+
+def _dominant_period(signal: numpy.ndarray) -> Tuple[float, float]:
+    """(period, autocorrelation at that lag) of the strongest rhythm in PERIOD_RANGE; (nan, nan) for a still joint."""
+    centred = signal - signal.mean()
+    if numpy.ptp(signal) < 1e-9:
+        return float("nan"), float("nan")
+    frequencies = numpy.fft.rfftfreq(len(centred), d=1.0 / SAMPLE_RATE)
+    spectrum = numpy.abs(numpy.fft.rfft(centred))
+    usable = (frequencies >= 1.0 / PERIOD_RANGE[1]) & (frequencies <= 1.0 / PERIOD_RANGE[0])
+    if not usable.any():
+        return float("nan"), float("nan")
+    period = 1.0 / frequencies[usable][numpy.argmax(spectrum[usable])]
+    lag = int(round(period * SAMPLE_RATE))
+    if lag >= len(centred) - 2:
+        return period, float("nan")
+    return period, float(numpy.corrcoef(centred[:-lag], centred[lag:])[0, 1])
+
+
+def figures(times: numpy.ndarray, names: Sequence[str], positions: numpy.ndarray) -> List[JointFigures]:
+    dt = 1.0 / SAMPLE_RATE
+    velocities = numpy.gradient(positions, dt, axis=0)
+    jerks = numpy.gradient(numpy.gradient(velocities, dt, axis=0), dt, axis=0)
+    index = {name: column for column, name in enumerate(names)}
+    result = []
+    for column, name in enumerate(names):
+        signal = positions[:, column]
+        period, autocorrelation = _dominant_period(signal)
+        other = ("L" if name.startswith("R") else "R") + name[1:] if name[0] in "LR" else None
+        side = float("nan")
+        if other in index and numpy.ptp(signal) > 1e-9 and numpy.ptp(positions[:, index[other]]) > 1e-9:
+            sign = -1.0 if short_name(name) in MIRRORED else 1.0
+            side = float(numpy.corrcoef(signal, sign * positions[:, index[other]])[0, 1])
+        peak_to_peak = float(numpy.ptp(signal))
+        moving = float(numpy.mean(numpy.abs(velocities[:, column]) > MOVING_SPEED))
+        result.append(JointFigures(name, peak_to_peak, moving,
+                                   period, autocorrelation, float(numpy.sqrt(numpy.mean(velocities[:, column] ** 2))),
+                                   float(numpy.sqrt(numpy.mean(jerks[:, column] ** 2))), side,
+                                   peak_to_peak >= DRIVER_JOINT_PRECISION))
+    return result
+
+
+def format_table(title: str, rows: Sequence[JointFigures]) -> str:
+    lines = [title, "%-15s %8s %7s %8s %8s %9s %10s %6s %8s" % (
+        "joint", "p2p", "moving", "period", "autocor", "rms speed", "rms jerk", "sides", "visible")]
+    for row in rows:
+        lines.append("%-15s %8.3f %6.0f%% %7.1fs %8.2f %9.3f %10.1f %6.2f %8s" % (
+            row.joint, row.peak_to_peak, 100 * row.moving, row.period, row.autocorrelation, row.rms_speed,
+            row.rms_jerk, row.side_correlation, "yes" if row.visible else "no"))
+    return "\n".join(lines)
+
+
+def report(config_file: str, seconds: float, seed: int) -> Dict[Tuple[str, str], List[JointFigures]]:
+    result = {}
+    for style in ("random", "breathing"):
+        config = load_configuration(config_file, {"behaviour": "body", "platform": "robot", "motionStyle": style,
+                                                  "randomSeed": seed})
+        times, names, commanded = commanded_run(config, seconds, seed)
+        result[(style, "ideal")] = figures(times, names, commanded)
+        result[(style, "naoqi_dcm")] = figures(times, names, executed_by_driver(times, names, commanded))
+    return result
+
+
+def main(argv: Sequence[str]) -> int:
+    parser = argparse.ArgumentParser(prog="motion report", description="What a person sees of each motion style, "
+                                     "on the ideal controller and on the robot's driver (behaviour body, robot).")
+    parser.add_argument("--config", default=None, help="configuration file (default: the shipped one)")
+    parser.add_argument("--seconds", type=float, default=60.0)
+    parser.add_argument("--seed", type=int, default=1)
+    arguments = parser.parse_args(argv)
+    try:
+        tables = report(arguments.config or shipped_configuration_path(), arguments.seconds, arguments.seed)
+    except (OSError, ValueError) as error:
+        print("motion report: error: %s" % error, file=sys.stderr)
+        return 1
+    for (style, driver), rows in tables.items():
+        print(format_table("== style %s, %s (%.0f s, seed %d)" % (style, "ideal controller" if driver == "ideal"
+                           else "robot's driver (naoqi_dcm)", arguments.seconds, arguments.seed), rows))
+        print()
+    return 0

@@ -1,0 +1,47 @@
+"""Unit tests of the motion report's figures (motion/report.py) on signals whose figures are known."""
+import math
+
+import numpy
+import pytest
+
+from cssr_system.animate_behaviour.motion.report import SAMPLE_RATE, figures
+from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION
+
+TIMES = numpy.arange(0.0, 60.0, 1.0 / SAMPLE_RATE)
+
+
+def figures_of(**columns):
+    names = tuple(columns)
+    return {row.joint: row for row in figures(TIMES, names, numpy.column_stack([columns[n] for n in names]))}
+
+
+def test_a_sine_has_its_amplitude_period_rhythm_and_speeds():
+    amplitude, period = 0.1, 5.0
+    omega = 2 * math.pi / period
+    row = figures_of(RShoulderPitch=1.5 + amplitude * numpy.sin(omega * TIMES))["RShoulderPitch"]
+    assert row.peak_to_peak == pytest.approx(2 * amplitude, rel=1e-3)
+    assert row.period == pytest.approx(period, rel=0.02)
+    assert row.autocorrelation == pytest.approx(1.0, abs=0.01)
+    assert row.rms_speed == pytest.approx(amplitude * omega / math.sqrt(2), rel=0.01)
+    assert row.rms_jerk == pytest.approx(amplitude * omega ** 3 / math.sqrt(2), rel=0.02)
+    assert row.visible == (2 * amplitude >= DRIVER_JOINT_PRECISION)
+    assert row.moving > 0.9
+
+
+def test_a_still_joint_neither_moves_nor_shows():
+    row = figures_of(HipPitch=numpy.full(len(TIMES), -0.11))["HipPitch"]
+    assert row.peak_to_peak == 0.0 and row.moving == 0.0 and not row.visible
+    assert math.isnan(row.period)
+
+
+def test_white_noise_has_no_rhythm():
+    noise = numpy.random.default_rng(1).normal(0.0, 0.05, len(TIMES))
+    assert abs(figures_of(LElbowYaw=noise)["LElbowYaw"].autocorrelation) < 0.2
+
+
+def test_sides_correlate_with_mirroring_where_the_limits_mirror():
+    wave = 0.05 * numpy.sin(2 * math.pi * TIMES / 4.0)
+    rows = figures_of(LShoulderPitch=1.5 + wave, RShoulderPitch=1.5 + wave, LShoulderRoll=0.1 + wave,
+                      RShoulderRoll=-0.1 - wave)
+    assert rows["LShoulderPitch"].side_correlation == pytest.approx(1.0)
+    assert rows["RShoulderRoll"].side_correlation == pytest.approx(1.0)
