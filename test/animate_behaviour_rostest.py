@@ -285,7 +285,7 @@ class AnimateBehaviourTest(unittest.TestCase):
                                                        time_from_start=rospy.Duration(3.0))]
         gesture.send_goal(goal)
         self.assertTrue(gesture.wait_for_result(rospy.Duration(10)))
-        time.sleep(0.3)
+        time.sleep(1.3)  # the node lets another node's motion settle for its quiet time (yieldQuietTime, 1 s)
         goals, _ = self.run_behaviour("body", seconds=0.5)
         first = next(message for _, key, message in goals if key == "RArm").goal.trajectory
         distance = abs(first.points[0].positions[0] - away[0])

@@ -609,3 +609,16 @@ def test_threads_writing_to_a_failing_file_never_raise_and_report_once(tmp_path)
     log.close()
     assert failures == []
     assert len(reports.at(logging.ERROR)) == 1
+
+
+def test_a_background_log_keeps_the_order_and_the_times_of_its_lines(tmp_path):
+    from cssr_system.animate_behaviour.event_log import BackgroundLog
+    path = str(tmp_path / "background.log")
+    log = BackgroundLog(EventLog(path))
+    for number in range(200):
+        log.write("numbered", number=number)
+    log.close()
+    entries = read_log(path)
+    assert [entry.fields["number"] for entry in entries] == list(range(200))
+    assert all(earlier.timestamp <= later.timestamp for earlier, later in zip(entries, entries[1:]))
+    log.write("after", number=-1)  # ignored after close, never raises

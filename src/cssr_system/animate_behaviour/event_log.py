@@ -45,6 +45,7 @@ import json
 import logging
 import math
 import os
+import queue
 import re
 import stat
 import threading
@@ -199,7 +200,18 @@ class EventLog:
         """Append one line: timestamp, `event`, `fields` as a JSON object.  Never raises: a failure
         is reported (module docstring) and the line dropped; after close() lines are ignored."""
         try:
-            line = self._format(event, fields)
+            moment = self._clock()
+        except Exception as error:  # not expected; still never the caller's problem
+            self._report_later(logging.ERROR, "%s: the log file %s: unexpected %s" % (
+                NODE_NAME, self._path, _reason(error)))
+            self._flush_reports()
+            return
+        self.write_at(moment, event, fields)
+
+    def write_at(self, moment: float, event: str, fields: Dict[str, Any]) -> None:
+        """`write`, with the line's time given (seconds since 1970)."""
+        try:
+            line = self._format(moment, event, fields)
             with self._lock:
                 if not self._closed:
                     self._write_line(line)
@@ -227,8 +239,8 @@ class EventLog:
         self.close()
 
     # -- formatting -------------------------------------------------------------------------------
-    def _format(self, event: str, fields: Dict[str, Any]) -> bytes:
-        stamp = format_timestamp(self._clock())
+    def _format(self, moment: float, event: str, fields: Dict[str, Any]) -> bytes:
+        stamp = format_timestamp(moment)
         try:
             return format_log_line(stamp, event, fields).encode("utf-8")
         except ValueError as error:
@@ -402,6 +414,42 @@ class EventLog:
                 self._report(level, text)
             except Exception:  # a broken reporter must not break the caller either
                 pass
+
+
+class BackgroundLog:
+    """An EventLog written by a thread of its own: `write` takes the time and queues the line, so a caller that
+    commands a robot never waits for formatting or the disk. Lines keep their order; `close` writes what is
+    queued (at most `close_timeout` seconds) and closes the file."""
+
+    def __init__(self, log: EventLog, close_timeout: float = 1.0) -> None:
+        self._log = log
+        self._close_timeout = close_timeout
+        self._queue = queue.Queue()  # (time, event, fields), None to end
+        self._thread = threading.Thread(target=self._run, name="event log", daemon=True)
+        self._thread.start()
+
+    @property
+    def path(self) -> str:
+        return self._log.path
+
+    @property
+    def writing(self) -> bool:
+        return self._log.writing
+
+    def write(self, event: str, **fields: Any) -> None:
+        self._queue.put((time.time(), event, fields))
+
+    def close(self) -> None:
+        self._queue.put(None)
+        self._thread.join(self._close_timeout)
+        self._log.close()
+
+    def _run(self) -> None:
+        while True:
+            item = self._queue.get()
+            if item is None:
+                return
+            self._log.write_at(*item)  # never raises
 
 
 def parse_log_line(line: str) -> LogEntry:

@@ -67,6 +67,7 @@ class Stopper:
                 return
             self.reason = self.reason or reason
             self._node.request_shutdown(self.reason)
+            self._node.services.withdraw()
             wait_for_outgoing_messages(SHUTDOWN_FLUSH_TIME)
             self._node.log.write(contract.NODE_STOPPED, reason=self.reason)
 

@@ -1,7 +1,7 @@
 """The node's private parameters: ~configFile, ~logFile, and overrides of configuration keys (README: "Parameters").
 Read again at every ``enabled``, so a harness can point the node at a configuration of its own."""
 import os
-from typing import Dict, Tuple
+from typing import Dict, Optional, Tuple
 
 import rospy
 
@@ -12,28 +12,35 @@ from cssr_system.animate_behaviour.topics import TopicFileError, load_topic_map
 from cssr_system.package_files import data_dir
 
 
-def parameter_overrides() -> Dict[str, object]:
-    """Private parameters other than the node's own: overrides of configuration keys."""
-    prefix = rospy.get_name() + "/"
-    overrides = {}
-    for name in rospy.get_param_names():
-        if name.startswith(prefix) and "/" not in name[len(prefix):]:
-            key = name[len(prefix):]
-            if key not in NODE_PARAMETERS:
-                overrides[key] = rospy.get_param(name)
-    return overrides
+def private_parameters() -> Dict[str, object]:
+    """Every private parameter, in one call to the master (the service reads them at every `enabled`)."""
+    try:
+        values = rospy.get_param("~")
+    except KeyError:  # no private parameter at all
+        return {}
+    return values if isinstance(values, dict) else {}
 
 
-def config_file_parameter() -> str:
+def parameter_overrides(parameters: Optional[Dict[str, object]] = None) -> Dict[str, object]:
+    """Private parameters other than the node's own: overrides of configuration keys. A nested
+    namespace (``~a/b``) is not a configuration key and is left out."""
+    parameters = private_parameters() if parameters is None else parameters
+    return {key: value for key, value in parameters.items()
+            if key not in NODE_PARAMETERS and not isinstance(value, dict)}
+
+
+def config_file_parameter(parameters: Optional[Dict[str, object]] = None) -> str:
     """~configFile as it is now; a relative path is relative to the working directory."""
-    return os.path.abspath(rospy.get_param("~configFile", shipped_configuration_path()))
+    parameters = private_parameters() if parameters is None else parameters
+    return os.path.abspath(str(parameters.get("configFile", shipped_configuration_path())))
 
 
 def load_node_configuration() -> Tuple[str, Configuration, Dict[str, str]]:
     """(configuration file, configuration, topics of the selected platform); raises ConfigurationError."""
-    config_file = config_file_parameter()
+    parameters = private_parameters()
+    config_file = config_file_parameter(parameters)
     folder = data_dir()
-    config = load_configuration(config_file, parameter_overrides(), data_dir=folder)
+    config = load_configuration(config_file, parameter_overrides(parameters), data_dir=folder)
     try:  # validated by load_configuration; read again only if the file changed since
         topics = load_topic_map(topic_file_path(config, folder)).topics
     except TopicFileError as error:

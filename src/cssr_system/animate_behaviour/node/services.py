@@ -23,10 +23,16 @@ class ActivationServices:
     def __init__(self, post: Callable[[object], None], log) -> None:
         self._post = post
         self._log = log
+        self._services = []
+
+    def withdraw(self) -> None:
+        """Unregisters both services from the master at once, so callers see the node gone."""
+        for service in self._services:
+            service.shutdown("the node stops")
 
     def advertise(self) -> None:
-        rospy.Service(SERVICE_NAME, setActivation, self.handle_set_activation)
-        rospy.Service(SET_ENABLED_SERVICE_NAME, SetBool, self.handle_set_enabled)
+        self._services = [rospy.Service(SERVICE_NAME, setActivation, self.handle_set_activation),
+                          rospy.Service(SET_ENABLED_SERVICE_NAME, SetBool, self.handle_set_enabled)]
         rospy.loginfo("%s: service %s ready (requests: %s); %s ready.", NODE_NAME,
                       rospy.resolve_name(SERVICE_NAME), ", ".join(ACCEPTED_STATES),
                       rospy.resolve_name(SET_ENABLED_SERVICE_NAME))
@@ -60,7 +66,9 @@ class ActivationServices:
             rospy.logerr("%s: not enabled: %s", NODE_NAME, error)
             self._log.write(contract.CONFIGURATION_INVALID, file=config_file_parameter(), problems=list(error.problems))
             return False, "not enabled: %s" % error
-        self._request(lambda done: Enable(config_file, config, topics, done))
+        # Validated: the supervisor applies it at once, and the caller need not wait (a `disabled` does wait, so a
+        # caller's next command never races the stop).
+        self._post(Enable(config_file, config, topics, threading.Event()))
         return True, "enabled"
 
     def _request(self, make_event) -> None:

@@ -14,7 +14,7 @@ from sensor_msgs.msg import JointState
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import Configuration, configuration_items
 from cssr_system.animate_behaviour.contract import NODE_NAME, JOINT_STATES_TOPIC
-from cssr_system.animate_behaviour.event_log import EventLog, default_log_path
+from cssr_system.animate_behaviour.event_log import BackgroundLog, EventLog, default_log_path
 from cssr_system.animate_behaviour.motion.styles import MotionStyle
 from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng, narrow_bands
 from cssr_system.animate_behaviour.node.base_stream import BaseStream
@@ -41,7 +41,8 @@ class AnimateBehaviour:
 
     def __init__(self) -> None:
         self.version = package_version()
-        self.log = EventLog(rospy.get_param("~logFile", default_log_path(package_dir(), os.environ.get("ROS_HOME"))))
+        log_file = rospy.get_param("~logFile", default_log_path(package_dir(), os.environ.get("ROS_HOME")))
+        self.log = BackgroundLog(EventLog(log_file))
         self.events: "queue.Queue" = queue.Queue()
         self.config: Optional[Configuration] = None
         self.enabled = False
