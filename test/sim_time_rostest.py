@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""Simulated time (rostest; README: "Faults"). With /use_sim_time and a clock that starts paused and then runs at
-30 % of real time: the service answers while the clock stands still, and the enable takes effect once it runs; no
-goal is declared lost or replaced while it is still running (everything that refers to what a controller executes
-is measured in ROS time); the base stays within headingBound; disable still stops everything."""
+"""Simulated time (rostest; README: "Faults"). With /use_sim_time and a clock that starts paused and then runs slower
+(test/sim_time.test, 30 % of real time) or faster (test/sim_time_fast.test, twice real time) than real time: the
+service answers while the clock stands still, and the enable takes effect once it runs; no goal is declared lost or
+replaced while it is still running (everything that refers to what a controller executes is measured in ROS time);
+the base stays within headingBound; disable still stops everything."""
 import sys
 import time
 import unittest
@@ -39,7 +40,7 @@ class SimTimeTest(unittest.TestCase):
         self.assertEqual(call("enabled").success, REPLY_SUCCESS)
         self.assertLess(time.monotonic() - started, 1.0, "the service answers while the clock stands still")
         self.assertAlmostEqual(rospy.get_time(), paused_at, delta=0.01, msg="the clock was still paused")
-        time.sleep(22.0)  # about 6 s of simulated time: the first 3 s goals end, the next ones run
+        time.sleep(rospy.get_param("~run_for", 22.0))  # wall time: the first 3 s goals end, the next ones run
         log = read_log(rospy.get_param("/animateBehaviour/logFile"))
         finished = [entry.fields for entry in log if entry.event == contract.GOAL_FINISHED]
         errors = [entry.fields for entry in log if entry.event == contract.ERROR]

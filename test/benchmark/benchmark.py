@@ -15,7 +15,6 @@ import json
 import os
 import signal
 import socket
-import statistics
 import subprocess
 import sys
 import tempfile
@@ -219,8 +218,10 @@ def summary(values, unit):
         return None
     scale = 1000.0 if unit == "ms" else 1.0
     ordered = sorted(value * scale for value in values)
-    return {"p50": statistics.median(ordered), "p90": ordered[int(0.9 * (len(ordered) - 1))], "max": ordered[-1],
-            "samples": len(ordered)}
+
+    def rank(fraction):  # nearest rank, the same rule for every percentile
+        return ordered[int(round(fraction * (len(ordered) - 1)))]
+    return {"p50": rank(0.5), "p90": rank(0.9), "max": ordered[-1], "samples": len(ordered)}
 
 
 def table(platform: str, results: dict) -> str:

@@ -200,11 +200,8 @@ class AnimateBehaviour:
         for stream in list(self.parts.values()):
             if stream.active and (stream.part not in motions or stream.action != topics.get(stream.part)):
                 stream.disable(config.home_on_disable)
-        if config.platform == "robot":
-            for line in narrow_bands(list(motions.values()), DRIVER_JOINT_PRECISION):
-                rospy.logwarn("%s: %s.", NODE_NAME, line)
         style = MotionStyle(config, self.rng)
-        for key, motion in motions.items():
+        for key, motion in motions.items():  # the goals first: console lines take milliseconds each
             self._stream_for(key, topics[key]).enable(motion, style.planner(motion), config.yield_quiet_time)
         wheels = topics.get(WHEELS_KEY) if "rotation" in config.behaviour else None
         if self.active_base is not None and self.active_base.topic != wheels:
@@ -218,6 +215,9 @@ class AnimateBehaviour:
                        platform=config.platform, parts=sorted(motions), wheels=wheels,
                        reconfigured=reconfigured)
         rospy.loginfo("%s: animating %s.", NODE_NAME, ", ".join(sorted(motions) + ([WHEELS_KEY] if wheels else [])))
+        if config.platform == "robot":
+            for line in narrow_bands(list(motions.values()), DRIVER_JOINT_PRECISION):
+                rospy.logwarn("%s: %s.", NODE_NAME, line)
 
     def _disable(self, reason: str) -> None:
         if not self.enabled:
