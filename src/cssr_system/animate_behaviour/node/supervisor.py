@@ -223,11 +223,11 @@ class AnimateBehaviour:
         if not self.enabled:
             return
         home = self.config.home_on_disable
-        for stream in list(self.parts.values()):
-            stream.disable(home)
-        if self.active_base is not None:
+        if self.active_base is not None:  # first: a streamed turn ends with one zero Twist, sent at once
             self.active_base.stop(home, self.clock(), self.log)
             self.active_base = None
+        for stream in list(self.parts.values()):
+            stream.disable(home)
         self.enabled = False
         self.log.write(contract.BEHAVIOUR_ENDED, reason=reason, home=home)
         rospy.loginfo("%s: stopped (%s).", NODE_NAME, reason)
