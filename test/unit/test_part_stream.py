@@ -301,23 +301,14 @@ def test_a_chain_of_goals_keeps_the_part_yielding():
     assert rig.stream.state == PartState.ANIMATING
 
 
-def test_without_a_result_the_last_point_and_a_grace_end_the_other_goal():
+@pytest.mark.parametrize("kind, grace", [("goal", RESULT_GRACE), ("command", 0.0)])
+def test_without_an_end_reported_the_other_motion_ends_at_its_last_point(kind, grace):
+    """A goal whose end is not reported counts as over RESULT_GRACE after its last point; a command trajectory,
+    which has no result, at its last point. Then the quiet time."""
     rig = Rig()
     rig.enable()
-    rig.stream.foreign_motion("g", "/teleop", "goal", last_point_at=rig.now + 2.0)
-    rig.now += 2.0 + RESULT_GRACE + 0.99
-    rig.stream.tick()
-    assert rig.stream.state == PartState.YIELDING
-    rig.now += 0.02
-    rig.stream.tick()
-    assert rig.stream.state == PartState.ANIMATING
-
-
-def test_a_command_trajectory_yields_until_its_last_point():
-    rig = Rig()
-    rig.enable()
-    rig.stream.foreign_motion("command-1", "/teleop", "command", last_point_at=rig.now + 2.0)
-    rig.now += 2.0 + 0.99
+    rig.stream.foreign_motion("motion-1", "/teleop", kind, last_point_at=rig.now + 2.0)
+    rig.now += 2.0 + grace + 0.99
     rig.stream.tick()
     assert rig.stream.state == PartState.YIELDING
     rig.now += 0.02
