@@ -17,6 +17,7 @@ RANDOM, BREATHING = MOTION_STYLES
 BASE_PAUSES = {RANDOM: (1.0, 4.0), BREATHING: (8.0, 20.0)}  # s of stillness after each turn
 BASE_SPEED_SHARE = {RANDOM: 1.0, BREATHING: 0.5}
 
+# The next goal of a part: (now, positions, velocities, accelerations) -> a trajectory from that state.
 Planner = Callable[[float, numpy.ndarray, numpy.ndarray, numpy.ndarray], TimedTrajectory]
 
 

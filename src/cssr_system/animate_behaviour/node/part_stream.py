@@ -35,6 +35,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import NODE_NAME, PURPOSE_ANIMATE, PURPOSE_HOME
 from cssr_system.animate_behaviour.event_log import format_log_line, format_timestamp
+from cssr_system.animate_behaviour.motion.styles import Planner
 from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory, time_trajectory, to_points
 from cssr_system.animate_behaviour.motion.waypoints import PartMotion
 from cssr_system.animate_behaviour.node.events import GoalDone
@@ -76,10 +77,6 @@ _GOAL_STATE_NAMES = {getattr(GoalStatus, name): name for name in (
 
 def goal_state_name(state: int) -> str:
     return _GOAL_STATE_NAMES.get(state, str(state))
-
-
-# The next goal of a part: (now, positions, velocities, accelerations) -> a trajectory from that state.
-Planner = Callable[[float, numpy.ndarray, numpy.ndarray, numpy.ndarray], TimedTrajectory]
 
 
 class SentGoal(NamedTuple):
