@@ -2,7 +2,7 @@
 # Puts the system Python first (a pyenv or virtualenv python3 has no rospy), names the private
 # catkin workspace of this clone, and sources ROS Noetic where it is installed.
 
-REPO_DIR=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+REPO_DIR=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd -P)  # the real path: one workspace per clone, however reached
 # The workspace lives outside the package: ROS tools search a package's folder for executables,
 # and would find the workspace's build copies (and loop through its link back to the package).
 # One workspace per clone, so two clones never share a build.
