@@ -35,6 +35,8 @@ class SimTimeTest(unittest.TestCase):
         rospy.wait_for_service(SERVICE_PATH, timeout=30)
         call = rospy.ServiceProxy(SERVICE_PATH, setActivation)
         rospy.Subscriber("/pepper/odom", Odometry, self.on_odometry, queue_size=100)
+        while rospy.get_time() == 0.0:  # rospy's clock reads 0 until the first /clock message
+            time.sleep(0.01)
         paused_at = rospy.get_time()
         started = time.monotonic()
         self.assertEqual(call("enabled").success, REPLY_SUCCESS)

@@ -24,7 +24,10 @@ from cssr_system.animate_behaviour.node.supervisor import AnimateBehaviour
 
 SHUTDOWN_FLUSH_TIME = 0.3  # s at most for the last messages (cancels, home goals, a zero Twist) to leave
 TEARDOWN_TIME = 0.1  # s at most for rospy's teardown (unregistering from the master), once the robot is stopped
-ALIVE_CHECK_PERIOD = 1.0  # s between checks that the supervisor still runs
+# s between checks for a stop request and that the supervisor still runs. Python runs signal handlers in the main
+# thread; when the kernel hands a signal to another of rospy's threads, the main thread sees it only when its wait
+# ends, so this bounds the time from a signal to the stop.
+ALIVE_CHECK_PERIOD = 0.1
 
 
 def wait_for_outgoing_messages(timeout: float) -> None:
