@@ -7,8 +7,8 @@ subject (the node, the reference) started as a process of this run. Times run fr
 to the message arriving here, where the controllers are (test/wire_recorder.py). CPU, memory, threads and open
 files come from /proc for the subject's process (its pid from the master, never from a process name).
 
-usage: benchmark.py --platform robot|simulator [--cycles N] [--cpu-window S] [--json FILE] [--soak S]
-                    [--growth-cycles N]
+usage: benchmark.py --platform robot|simulator [--cycles N] [--cpu-window S] [--exit-runs N] [--json FILE]
+                    [--soak S] [--growth-cycles N]
 """
 import argparse
 import json
@@ -20,6 +20,7 @@ import sys
 import tempfile
 import time
 import xmlrpc.client
+from typing import NamedTuple, Optional
 
 import actionlib
 import rosgraph
@@ -32,25 +33,45 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from wire_recorder import WireRecorder, wait_until  # noqa: E402
 
 from cssr_system.animate_behaviour.contract import NODE_NAME, SERVICE_PATH, SET_ENABLED_SERVICE_NAME  # noqa: E402
+from cssr_system.animate_behaviour.configuration import ALL_BEHAVIOURS, load_configuration  # noqa: E402
+from cssr_system.animate_behaviour.configuration import shipped_configuration_path, topic_file_path  # noqa: E402
 from cssr_system.animate_behaviour.topics import load_topic_map  # noqa: E402
-from cssr_system.package_files import data_dir  # noqa: E402
 from cssr_system.pepper.joint_table import PARTS  # noqa: E402
 from cssr_system.srv import setActivation  # noqa: E402
 
 NODE = "/" + NODE_NAME
 HERE = os.path.dirname(os.path.abspath(__file__))
-QUIET_TIME = 1.0  # the node's default yieldQuietTime: the resume delay is reported beyond it
-# (figure, unit, target p90, target max); None: no target of that kind
+PLATFORMS = ("robot", "simulator")
+
+
+class Target(NamedTuple):
+    """A figure and its targets; None: no target of that kind. `mean` applies to the mean over the samples."""
+    name: str
+    unit: str
+    p90: Optional[float] = None
+    max: Optional[float] = None
+    mean: Optional[float] = None
+
+
+RESUME = "resume after another node's goal, beyond the quiet time"
+EXITS = ("exit after SIGINT", "exit after SIGTERM")
 TARGETS = [
-    ("setActivation enabled reply", "ms", 10, 20), ("setActivation disabled reply", "ms", 10, 20),
-    ("set_enabled true reply", "ms", 10, 20), ("set_enabled false reply", "ms", 10, 20),
-    ("first goal of every part after enabled", "ms", None, 20), ("stop of every part after disabled", "ms", 10, 20),
-    ("zero twist after disabled", "ms", None, 5), ("resume after another node's goal, beyond the quiet time", "ms",
-                                                   None, 500),
-    ("exit after SIGINT", "ms", None, 500), ("exit after SIGTERM", "ms", None, 500),
-    ("CPU while disabled", "% of a core", None, 0.5), ("CPU while animating", "% of a core", None, 1.5),
-    ("resident memory", "MB", None, 60), ("threads", "", None, 30), ("open files", "", None, None),
+    Target("setActivation enabled reply", "ms", 10, 20), Target("setActivation disabled reply", "ms", 10, 20),
+    Target("set_enabled true reply", "ms", 10, 20), Target("set_enabled false reply", "ms", 10, 20),
+    Target("first goal of every part after enabled", "ms", max=20),
+    Target("stop of every part after disabled", "ms", 10, 20),
+    Target("zero twist after disabled", "ms", max=5),
+    Target(RESUME, "ms", max=500),
+    Target(EXITS[0], "ms", max=500), Target(EXITS[1], "ms", max=500),
+    Target("CPU while disabled", "% of a core", mean=0.5), Target("CPU while animating", "% of a core", mean=1.5),
+    Target("resident memory", "MB", max=60), Target("threads", "", max=30), Target("open files", ""),
 ]
+PROCESS_FIGURES = ("resident memory", "threads", "open files")
+
+
+def platform_configuration(platform: str):
+    """The shipped configuration as the node reads it in this benchmark (platform and behaviour `all`)."""
+    return load_configuration(shipped_configuration_path(), {"platform": platform, "behaviour": ALL_BEHAVIOURS})
 
 
 def free_port() -> int:
@@ -69,62 +90,97 @@ def process_figures(pid: int) -> dict:
 def cpu_seconds(pid: int) -> float:
     with open("/proc/%d/stat" % pid) as stream:
         fields = stream.read().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")  # utime + stime
 
 
-def cpu_share(pid: int, seconds: float) -> float:
-    start, started = cpu_seconds(pid), time.monotonic()
-    time.sleep(seconds)
-    return 100.0 * (cpu_seconds(pid) - start) / (time.monotonic() - started)
+def cpu_shares(pid: int, seconds: float, figures: dict, slices: int = 4) -> list:
+    """Shares of one core over `slices` equal parts of `seconds` (their mean is the window's share); the
+    process figures are sampled at the end of each part."""
+    shares = []
+    for _ in range(slices):
+        start, started = cpu_seconds(pid), time.monotonic()
+        time.sleep(seconds / slices)
+        shares.append(100.0 * (cpu_seconds(pid) - start) / (time.monotonic() - started))
+        sample_process(pid, figures)
+    return shares
+
+
+def sample_process(pid: int, figures: dict) -> None:
+    for name, value in process_figures(pid).items():
+        figures[name].append(value)
+
+
+def services() -> set:
+    return {name for name, _ in rosgraph.Master("/benchmark").getSystemState()[2]}
 
 
 class Subject:
-    """A node under measurement: animateBehaviour or the reference."""
+    """A node under measurement (animateBehaviour or the reference), started as a process of this run."""
 
     def __init__(self, label: str, command, folder: str) -> None:
         self.label = label
         if rospy.has_param(NODE):
             rospy.delete_param(NODE)
-        self.output = open(os.path.join(folder, label + ".out"), "w")
+        self.output = open(os.path.join(folder, label + ".out"), "a")
         self.process = subprocess.Popen(command, stdout=self.output, stderr=subprocess.STDOUT)
-        rospy.wait_for_service(SERVICE_PATH, timeout=30)
+        if not wait_until(lambda: self.process.poll() is not None or SERVICE_PATH in services(), 30, period=0.05):
+            raise SystemExit("benchmark: %s did not offer %s within 30 s (see %s)"
+                             % (label, SERVICE_PATH, self.output.name))
+        if self.process.poll() is not None:
+            raise SystemExit("benchmark: %s exited with status %d before offering %s (see %s)"
+                             % (label, self.process.returncode, SERVICE_PATH, self.output.name))
         self.call = rospy.ServiceProxy(SERVICE_PATH, setActivation, persistent=True)
         uri = rosgraph.Master("/benchmark").lookupNode(NODE)
-        self.pid = xmlrpc.client.ServerProxy(uri).getPid("/benchmark")[2]
+        self.pid = xmlrpc.client.ServerProxy(uri).getPid("/benchmark")[2]  # the node's own word, not a name
 
-    def stop(self, signal_number) -> float:
+    def stop(self, signal_number):
+        """Seconds from sending the signal to the process's exit, and its exit status."""
         started = time.monotonic()
         self.process.send_signal(signal_number)
-        self.process.wait(timeout=10)
+        try:
+            self.process.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            self.process.wait()
         seconds = time.monotonic() - started
         self.output.close()
-        wait_until(lambda: not any(name == SERVICE_PATH for name, _ in
-                                   rosgraph.Master("/benchmark").getSystemState()[2]), 5)
-        return seconds
+        wait_until(lambda: SERVICE_PATH not in services(), 5)
+        return seconds, self.process.returncode
 
 
 class Benchmark:
-    def __init__(self, platform: str, cycles: int, cpu_window: float, folder: str) -> None:
+    def __init__(self, platform: str, cycles: int, cpu_window: float, exit_runs: int, folder: str) -> None:
         self.platform, self.cycles, self.cpu_window, self.folder = platform, cycles, cpu_window, folder
-        topic_file = "pepperTopics.dat" if platform == "robot" else "simulatorTopics.dat"
-        self.topics = dict(load_topic_map(os.path.join(data_dir(), topic_file)).topics)
+        self.exit_runs = exit_runs
+        configuration = platform_configuration(platform)
+        self.quiet_time = configuration.yield_quiet_time
+        self.topics = dict(load_topic_map(topic_file_path(configuration)).topics)
         self.parts = {key for key in self.topics if key in PARTS}
         self.wire = WireRecorder(self.topics)
         wait_until(self.wire.connected, 10)
 
     def node_command(self, *extra):
-        return (["rosrun", "cssr_system", "animateBehaviour.py", "_platform:=" + self.platform, "_behaviour:=all",
-                 "_logFile:=" + os.path.join(self.folder, "node.log")] + list(extra))
+        return (["rosrun", "cssr_system", "animateBehaviour.py", "_platform:=" + self.platform,
+                 "_behaviour:=" + ALL_BEHAVIOURS, "_logFile:=" + os.path.join(self.folder, "node.log")] + list(extra))
 
     def reference_command(self):
         return [sys.executable, os.path.join(HERE, "reference_node.py"), "_platform:=" + self.platform]
 
     def _from(self, store, since, who=NODE):
+        """Part key -> arrival of the subject's first message in `store` since `since`."""
         firsts = {}
         for at, key, message in self.wire.snapshot(store):
             if at >= since and message._connection_header.get("callerid") == who and key in self.parts:
                 firsts.setdefault(key, at)
         return firsts
+
+    def _stops(self, since):
+        """Part key -> arrival of the subject's first goal or cancel since `since`: the part's goal replaced or
+        cancelled."""
+        found = self._from(self.wire.goals, since)
+        for key, at in self._from(self.wire.cancels, since).items():
+            found[key] = min(at, found.get(key, at))
+        return found
 
     def cycles_of(self, subject: Subject, figures: dict) -> None:
         subject.call("enabled")
@@ -141,20 +197,17 @@ class Benchmark:
             if set(firsts) >= self.parts:
                 figures["first goal of every part after enabled"].append(max(firsts.values()) - sent)
             time.sleep(0.4)
+            sample_process(subject.pid, figures)
             sent = time.monotonic()
             subject.call("disabled")
             figures["setActivation disabled reply"].append(time.monotonic() - sent)
-
-            def stops():
-                found = self._from(self.wire.goals, sent)
-                for key, at in self._from(self.wire.cancels, sent).items():
-                    found[key] = min(at, found.get(key, at))
-                return found
-            wait_until(lambda: set(stops()) >= self.parts, 2)
-            if set(stops()) >= self.parts:
-                figures["stop of every part after disabled"].append(max(stops().values()) - sent)
+            wait_until(lambda: set(self._stops(sent)) >= self.parts, 2)
+            stops = self._stops(sent)
+            if set(stops) >= self.parts:
+                figures["stop of every part after disabled"].append(max(stops.values()) - sent)
             zeros = [at for at, key, message in self.wire.snapshot(self.wire.twists)
-                     if at >= sent and message.angular.z == 0.0]
+                     if at >= sent and message.angular.z == 0.0 and message.linear.x == 0.0
+                     and message.linear.y == 0.0]
             if zeros:
                 figures["zero twist after disabled"].append(zeros[0] - sent)
             time.sleep(0.4)
@@ -169,6 +222,8 @@ class Benchmark:
                 time.sleep(0.3)
 
     def resume_delay(self, subject: Subject, figures: dict) -> None:
+        """Another node's 2 s goal on the right arm while the node animates: from its result to the node's next
+        goal on that arm, less the quiet time the node waits by design."""
         client = actionlib.SimpleActionClient(self.topics["RArm"], FollowJointTrajectoryAction)
         client.wait_for_server(rospy.Duration(5))
         for _ in range(max(1, self.cycles // 10)):
@@ -181,97 +236,183 @@ class Benchmark:
             client.send_goal(goal)
             client.wait_for_result(rospy.Duration(5))
             ended = time.monotonic()
-            wait_until(lambda: "RArm" in self._from(self.wire.goals, ended), QUIET_TIME + 3)
+            wait_until(lambda: "RArm" in self._from(self.wire.goals, ended), self.quiet_time + 3)
             resumed = self._from(self.wire.goals, ended).get("RArm")
             if resumed is not None:
-                figures["resume after another node's goal, beyond the quiet time"].append(
-                    resumed - ended - QUIET_TIME)
+                figures[RESUME].append(resumed - ended - self.quiet_time)
             subject.call("disabled")
             time.sleep(0.5)
 
+    def exits(self, subject: Subject, label: str, command, figures: dict, stopped: dict, statuses: dict) -> None:
+        """`exit_runs` times each signal while animating: seconds to the exit, and whether every part's goal was
+        replaced or cancelled on the wire first (a message that arrives at all left before the exit)."""
+        for _ in range(self.exit_runs):
+            for signal_number, name in zip((signal.SIGINT, signal.SIGTERM), EXITS):
+                if subject is None:
+                    subject = Subject(label, command, self.folder)
+                    subject.call("enabled")
+                    time.sleep(1.0)
+                self.wire.clear()
+                sent = time.monotonic()
+                seconds, status = subject.stop(signal_number)
+                subject = None
+                figures[name].append(seconds)
+                wait_until(lambda: set(self._stops(sent)) >= self.parts, 1)
+                stopped[name].append(set(self._stops(sent)) >= self.parts)
+                statuses[name].append(status)
+
     def measure(self, label: str, command, node: bool) -> dict:
-        figures = {name: [] for name, _, _, _ in TARGETS}
+        """Every figure that applies to the subject: lists of raw samples (seconds, %, MB, counts), and per exit
+        figure whether the robot was stopped first and the exit status."""
+        figures = {target.name: [] for target in TARGETS}
+        stopped = {name: [] for name in EXITS}
+        statuses = {name: [] for name in EXITS}
         subject = Subject(label, command, self.folder)
+        sample_process(subject.pid, figures)
         self.cycles_of(subject, figures)
-        if node:
+        if node:  # the reference has neither the SetBool service nor the yielding
             self.set_enabled_cycles(figures)
             self.resume_delay(subject, figures)
         time.sleep(1.0)
-        figures["CPU while disabled"].append(cpu_share(subject.pid, self.cpu_window))
+        figures["CPU while disabled"] = cpu_shares(subject.pid, self.cpu_window, figures)
         subject.call("enabled")
         time.sleep(1.0)
-        figures["CPU while animating"].append(cpu_share(subject.pid, self.cpu_window))
-        for name, value in process_figures(subject.pid).items():
-            figures[name].append(value)
-        for signal_number, name in ((signal.SIGINT, "exit after SIGINT"), (signal.SIGTERM, "exit after SIGTERM")):
-            if subject is None:
-                subject = Subject(label, command, self.folder)
-                subject.call("enabled")
-                time.sleep(1.0)
-            figures[name].append(subject.stop(signal_number))
-            subject = None
-        return figures
+        figures["CPU while animating"] = cpu_shares(subject.pid, self.cpu_window, figures)
+        self.exits(subject, label, command, figures, stopped, statuses)
+        return {"figures": figures, "stopped first": stopped, "exit status": statuses}
 
 
 def summary(values, unit):
+    """p50, p90 (nearest rank, the same rule for both), max, mean and the number of samples, in `unit`."""
     if not values:
         return None
     scale = 1000.0 if unit == "ms" else 1.0
     ordered = sorted(value * scale for value in values)
 
-    def rank(fraction):  # nearest rank, the same rule for every percentile
+    def rank(fraction):
         return ordered[int(round(fraction * (len(ordered) - 1)))]
-    return {"p50": rank(0.5), "p90": rank(0.9), "max": ordered[-1], "samples": len(ordered)}
+    return {"p50": rank(0.5), "p90": rank(0.9), "max": ordered[-1], "mean": sum(ordered) / len(ordered),
+            "samples": len(ordered)}
+
+
+def verdict(target: Target, figure: Optional[dict]) -> Optional[bool]:
+    """Whether the node's figure meets every target it has (None: no target, or not measured)."""
+    if figure is None or (target.p90, target.max, target.mean) == (None, None, None):
+        return None
+    met = ((target.p90 is None or figure["p90"] <= target.p90) and (target.max is None or figure["max"] <= target.max)
+           and (target.mean is None or figure["mean"] <= target.mean))
+    if "stopped first" in figure:
+        met = met and figure["stopped first"] == figure["samples"] and set(figure["exit status"]) == {0}
+    return met
+
+
+def target_text(target: Target) -> str:
+    kinds = (("p90", target.p90), ("max", target.max), ("mean", target.mean))
+    parts = ["%s<=%g" % (kind, value) for kind, value in kinds if value is not None]
+    if target.name in EXITS:
+        parts.append("stopped first")
+    return " ".join(parts) or "-"
+
+
+def cell(figure: Optional[dict]) -> str:
+    if figure is None:
+        return "-"
+    text = "%.1f / %.1f / %.1f" % (figure["p50"], figure["p90"], figure["max"])
+    if "stopped first" in figure:
+        text += " (stopped %d/%d)" % (figure["stopped first"], figure["samples"])
+    return text
 
 
 def table(platform: str, results: dict) -> str:
-    lines = ["animateBehaviour benchmark, platform %s (node beside a minimal rospy reference node)" % platform,
-             "%-56s %-22s %-22s %-14s %s" % ("figure", "node p50/p90/max", "reference p50/p90/max", "target",
-                                             "met")]
-    for name, unit, p90_target, max_target in TARGETS:
-        cells = []
-        for subject in ("node", "reference"):
-            figure = results[subject].get(name)
-            cells.append("-" if figure is None else "%.1f/%.1f/%.1f" % (figure["p50"], figure["p90"], figure["max"]))
-        node = results["node"].get(name)
-        target = " ".join(part for part in (("p90<=%g" % p90_target) if p90_target is not None else "",
-                                            ("max<=%g" % max_target) if max_target is not None else "") if part)
-        met = "-" if node is None or not target else ("yes" if (p90_target is None or node["p90"] <= p90_target)
-                                                      and (max_target is None or node["max"] <= max_target)
-                                                      else "NO")
-        lines.append("%-56s %-22s %-22s %-14s %s" % (name + (" (%s)" % unit if unit else ""), cells[0], cells[1],
-                                                     target or "-", met))
+    rows = [("figure", "node p50 / p90 / max", "reference p50 / p90 / max", "target", "met?")]
+    for target in TARGETS:
+        node = results["node"].get(target.name)
+        met = verdict(target, node)
+        met_text = "-" if met is None else ("yes" if met else "NO")
+        if target.mean is not None and node is not None:
+            met_text += " (mean %.2f)" % node["mean"]
+        rows.append((target.name + (" (%s)" % target.unit if target.unit else ""), cell(node),
+                     cell(results["reference"].get(target.name)), target_text(target), met_text))
+    widths = [max(len(row[column]) for row in rows) for column in range(4)]
+    lines = ["animateBehaviour benchmark, platform %s: the node beside a minimal rospy reference node" % platform]
+    lines += ["  ".join(text.ljust(width) for text, width in zip(row, widths)) + "  " + row[4] for row in rows]
     return "\n".join(lines)
 
 
+def results_of(raw: dict) -> dict:
+    units = {target.name: target.unit for target in TARGETS}
+    results = {}
+    for subject, measured in raw.items():
+        figures = {}
+        for name, values in measured["figures"].items():
+            figure = summary(values, units[name])
+            if figure is None:
+                continue
+            if name in EXITS:
+                figure["stopped first"] = sum(measured["stopped first"][name])
+                figure["exit status"] = measured["exit status"][name]
+            figures[name] = figure
+        results[subject] = figures
+    return results
+
+
+def log_bytes(log: str) -> int:
+    return sum(os.path.getsize(name) for name in (log, log + ".1") if os.path.exists(name))
+
+
 def soak(benchmark: Benchmark, seconds: float, growth_cycles: int) -> dict:
-    """The node with short goals, enabled and disabled every few seconds, then `growth_cycles` quick cycles."""
+    """The node with short goals, enabled for 4 s and disabled for 1 s in turn for `seconds`, then
+    `growth_cycles` quick enable/disable cycles: process figures and log size at the start, after the soak and
+    after the cycles, and their growth."""
     log = os.path.join(benchmark.folder, "soak.log")
-    subject = Subject("soak", benchmark.node_command("_numPoints:=2", "_gestureDuration:=0.5", "_legRepeatFactor:=1",
-                                                     "_numPointsLeg:=1", "_logFile:=" + log), benchmark.folder)
-    start = dict(process_figures(subject.pid), log_bytes=os.path.getsize(log))
+    short_goals = ("_numPoints:=2", "_gestureDuration:=0.5", "_legRepeatFactor:=1", "_numPointsLeg:=1")
+    subject = Subject("soak", benchmark.node_command(*short_goals, "_logFile:=" + log), benchmark.folder)
+
+    def state():
+        return dict(process_figures(subject.pid), **{"log bytes": log_bytes(log)})
+    subject.call("enabled")  # the start is taken once the node has connected to every controller
+    time.sleep(1.0)
+    subject.call("disabled")
+    time.sleep(1.0)
+    start = state()
     deadline = time.monotonic() + seconds
+    cycles = 0
     while time.monotonic() < deadline:
         subject.call("enabled")
-        time.sleep(4.0)
+        time.sleep(min(4.0, max(0.0, deadline - time.monotonic())))
         subject.call("disabled")
         time.sleep(1.0)
-    middle = dict(process_figures(subject.pid), log_bytes=os.path.getsize(log))
+        cycles += 1
+    after_soak = state()
     for _ in range(growth_cycles):
         subject.call("enabled")
         subject.call("disabled")
-    end = dict(process_figures(subject.pid), log_bytes=os.path.getsize(log) + os.path.getsize(log + ".1")
-               if os.path.exists(log + ".1") else os.path.getsize(log))
+    after_cycles = state()
     subject.stop(signal.SIGINT)
-    return {"soak seconds": seconds, "growth cycles": growth_cycles, "start": start, "after soak": middle,
-            "after cycles": end}
+    return {"soak seconds": seconds, "soak cycles": cycles, "growth cycles": growth_cycles, "start": start,
+            "after soak": after_soak, "soak growth": {key: after_soak[key] - start[key] for key in start},
+            "after cycles": after_cycles,
+            "cycles growth": {key: after_cycles[key] - after_soak[key] for key in start}}
+
+
+def soak_table(result: dict) -> str:
+    lines = ["soak: %g s of short goals (%d enable/disable cycles), then %d quick enable/disable cycles"
+             % (result["soak seconds"], result["soak cycles"], result["growth cycles"]),
+             "%-20s %12s %12s %12s %14s %14s" % ("figure", "start", "after soak", "soak growth", "after cycles",
+                                                 "cycles growth")]
+    for key in result["start"]:
+        lines.append("%-20s %12.1f %12.1f %+12.1f %14.1f %+14.1f" % (
+            key + (" (MB)" if key == "resident memory" else ""), result["start"][key], result["after soak"][key],
+            result["soak growth"][key], result["after cycles"][key], result["cycles growth"][key]))
+    return "\n".join(lines)
 
 
 def main(argv) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--platform", choices=("robot", "simulator"), default="robot")
-    parser.add_argument("--cycles", type=int, default=30)
-    parser.add_argument("--cpu-window", type=float, default=10.0)
+    parser.add_argument("--platform", choices=PLATFORMS, default="robot")
+    parser.add_argument("--cycles", type=int, default=30, help="enable/disable cycles per subject")
+    parser.add_argument("--cpu-window", type=float, default=20.0, help="seconds of each CPU window")
+    parser.add_argument("--exit-runs", type=int, default=3, help="exits measured per signal and subject")
     parser.add_argument("--json", default=None, help="file the figures are added to (one section per platform)")
     parser.add_argument("--soak", type=float, default=0.0, help="seconds of soak with short goals (0: none)")
     parser.add_argument("--growth-cycles", type=int, default=0, help="quick enable/disable cycles after the soak")
@@ -287,19 +428,21 @@ def main(argv) -> int:
                                            "_platform:=" + arguments.platform],
                                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
         rospy.init_node("benchmark", disable_signals=True)
-        benchmark = Benchmark(arguments.platform, arguments.cycles, arguments.cpu_window, folder)
+        benchmark = Benchmark(arguments.platform, arguments.cycles, arguments.cpu_window, arguments.exit_runs, folder)
         raw = {"node": benchmark.measure("node", benchmark.node_command(), node=True),
                "reference": benchmark.measure("reference", benchmark.reference_command(), node=False)}
-        units = {name: unit for name, unit, _, _ in TARGETS}
-        results = {subject: {name: summary(values, units[name]) for name, values in figures.items() if values}
-                   for subject, figures in raw.items()}
+        results = results_of(raw)
         print(table(arguments.platform, results))
-        section = {"figures": results, "targets": {name: {"unit": unit, "p90": p90, "max": top}
-                                                   for name, unit, p90, top in TARGETS},
-                   "cycles": arguments.cycles, "cpu_window": arguments.cpu_window}
+        section = {"figures": results,
+                   "targets": {target.name: {"unit": target.unit, "p90": target.p90, "max": target.max,
+                                             "mean": target.mean} for target in TARGETS},
+                   "met": {target.name: verdict(target, results["node"].get(target.name)) for target in TARGETS},
+                   "cycles": arguments.cycles, "cpu window": arguments.cpu_window, "exit runs": arguments.exit_runs,
+                   "quiet time": benchmark.quiet_time, "cores": os.cpu_count(), "host": socket.gethostname(),
+                   "time": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
         if arguments.soak or arguments.growth_cycles:
             section["soak"] = soak(benchmark, arguments.soak, arguments.growth_cycles)
-            print("soak:", json.dumps(section["soak"]))
+            print(soak_table(section["soak"]))
         if arguments.json:
             document = {}
             if os.path.exists(arguments.json):
