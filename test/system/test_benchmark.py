@@ -1,5 +1,6 @@
-"""`make benchmark` runs and reports every figure: a short run on one platform (the real one takes minutes and is
-not a test). Checks the JSON and the printed table, not the figures, which depend on the machine."""
+"""`make benchmark` runs and reports every figure: a short run on one platform, with a short soak (the real one
+takes minutes and is not a test). Checks the JSON and the printed table, not the figures, which depend on the
+machine."""
 import json
 import os
 import subprocess
@@ -7,24 +8,48 @@ import sys
 
 REPO_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 sys.path.insert(0, os.path.join(REPO_DIR, "test", "benchmark"))
-from benchmark import TARGETS  # noqa: E402
+from benchmark import EXITS, TARGETS  # noqa: E402
 
-ALWAYS_MEASURED = [name for name, _, _, _ in TARGETS if name != "zero twist after disabled"]
+ALWAYS_MEASURED = [target.name for target in TARGETS if target.name != "zero twist after disabled"]
+REFERENCE_MEASURED = ["setActivation enabled reply", "setActivation disabled reply",
+                      "first goal of every part after enabled", "stop of every part after disabled",
+                      "CPU while disabled", "CPU while animating", "resident memory", "threads", "open files"] + \
+    list(EXITS)
 
 
 def test_a_short_benchmark_reports_every_figure_beside_the_reference_and_its_target(tmp_path):
     output = str(tmp_path / "benchmark.json")
     run = subprocess.run([sys.executable, os.path.join(REPO_DIR, "test", "benchmark", "benchmark.py"),
-                          "--platform", "robot", "--cycles", "2", "--cpu-window", "1", "--json", output],
+                          "--platform", "robot", "--cycles", "2", "--cpu-window", "1", "--exit-runs", "1",
+                          "--soak", "2", "--growth-cycles", "2", "--json", output],
                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True, timeout=240)
     assert run.returncode == 0, run.stdout[-3000:]
-    for name in ALWAYS_MEASURED:
-        assert name in run.stdout, name
+    lines = run.stdout.splitlines()
+    table = lines[:next(index for index, line in enumerate(lines) if line.startswith("soak:"))]
+    assert table[1].split() == ["figure", "node", "p50", "/", "p90", "/", "max", "reference", "p50", "/", "p90", "/",
+                                "max", "target", "met?"]
+    for target in TARGETS:
+        rows = [line for line in table if line.startswith(target.name + " (") or line.startswith(target.name + " ")]
+        assert len(rows) == 1, target.name
+        if target.name in ALWAYS_MEASURED:
+            assert rows[0].rstrip().endswith(("yes", "NO", "-")) or "(mean " in rows[0], rows[0]
+    assert "figures written to %s" % output in run.stdout
     with open(output) as stream:
         section = json.load(stream)["robot"]
-    for name in ALWAYS_MEASURED:
+    for target in TARGETS:
+        assert section["targets"][target.name] == {"unit": target.unit, "p90": target.p90, "max": target.max,
+                                                   "mean": target.mean}
+    for subject, names in (("node", ALWAYS_MEASURED), ("reference", REFERENCE_MEASURED)):
+        for name in names:
+            figure = section["figures"][subject][name]
+            assert 0 <= figure["p50"] <= figure["p90"] <= figure["max"], (subject, name)
+            assert figure["samples"] >= 1
+    for name in EXITS:
         figure = section["figures"]["node"][name]
-        assert figure["p50"] <= figure["p90"] <= figure["max"], name
-        assert name in section["targets"]
-    for name in ("setActivation enabled reply", "CPU while disabled", "threads", "exit after SIGINT"):
-        assert name in section["figures"]["reference"], name
+        assert figure["stopped first"] <= figure["samples"] and figure["exit status"]
+    assert set(section["met"]) == {target.name for target in TARGETS}
+    soak = section["soak"]
+    for state in ("start", "after soak", "after cycles"):
+        assert set(soak[state]) == {"resident memory", "threads", "open files", "log bytes"}
+    assert soak["growth cycles"] == 2 and "soak growth" in soak and "cycles growth" in soak
+    assert "soak: 2 s of short goals" in run.stdout
