@@ -244,21 +244,25 @@ class Benchmark:
             time.sleep(0.5)
 
     def exits(self, subject: Subject, label: str, command, figures: dict, stopped: dict, statuses: dict) -> None:
-        """`exit_runs` times each signal while animating: seconds to the exit, and whether every part's goal was
-        replaced or cancelled on the wire first (a message that arrives at all left before the exit)."""
+        """`exit_runs` times each signal while animating: seconds to the exit, and whether every part that had a
+        goal of the subject got it replaced or cancelled on the wire first (a message that arrives at all left
+        before the exit). The signal waits, up to 5 s, for every part to have a goal: a part whose controller
+        the subject has not connected yet moves nothing and needs no stop."""
         for _ in range(self.exit_runs):
             for signal_number, name in zip((signal.SIGINT, signal.SIGTERM), EXITS):
                 if subject is None:
+                    self.wire.clear()
                     subject = Subject(label, command, self.folder)
                     subject.call("enabled")
-                    time.sleep(1.0)
-                self.wire.clear()
+                    wait_until(lambda: set(self._from(self.wire.goals, 0.0)) >= self.parts, 5)
+                    time.sleep(0.5)
+                moving = set(self._from(self.wire.goals, 0.0))
                 sent = time.monotonic()
                 seconds, status = subject.stop(signal_number)
                 subject = None
                 figures[name].append(seconds)
-                wait_until(lambda: set(self._stops(sent)) >= self.parts, 1)
-                stopped[name].append(set(self._stops(sent)) >= self.parts)
+                wait_until(lambda: set(self._stops(sent)) >= moving, 1)
+                stopped[name].append(bool(moving) and set(self._stops(sent)) >= moving)
                 statuses[name].append(status)
 
     def measure(self, label: str, command, node: bool) -> dict:
