@@ -251,12 +251,13 @@ def sample_trajectory(spline: JointTrajectorySpline, times) -> Tuple[numpy.ndarr
 
 def points_from_arrays(times, positions, velocities=None, accelerations=None) -> List[TrajectoryPoint]:
     """TrajectoryPoints (tuples of floats) from arrays of shape (N,) and (N, joints)."""
-    result = []
-    for index, time in enumerate(numpy.asarray(times, dtype=float)):
-        result.append(TrajectoryPoint(
-            float(time),
-            tuple(float(x) for x in positions[index]),
-            None if velocities is None else tuple(float(x) for x in velocities[index]),
-            None if accelerations is None else tuple(float(x) for x in accelerations[index]),
-        ))
-    return result
+    # tolist() makes plain floats in one C loop: a goal of 100 points is built in a fraction of a millisecond.
+    times = numpy.asarray(times, dtype=float).tolist()
+    if not times:
+        return []
+    positions = [tuple(row) for row in numpy.asarray(positions, dtype=float).reshape(len(times), -1).tolist()]
+    velocities = ([None] * len(times) if velocities is None else
+                  [tuple(row) for row in numpy.asarray(velocities, dtype=float).reshape(len(times), -1).tolist()])
+    accelerations = ([None] * len(times) if accelerations is None else
+                     [tuple(row) for row in numpy.asarray(accelerations, dtype=float).reshape(len(times), -1).tolist()])
+    return [TrajectoryPoint(*point) for point in zip(times, positions, velocities, accelerations)]
