@@ -47,6 +47,9 @@ class BaseStream:
         self.topic = topic
         self.kind = wheels_command_kind(topic)
         self.publisher = rospy.Publisher(topic, Twist, queue_size=10)
+        # Written by the sending thread (as the goals are, part_stream.action_client): the zero Twist of a stop is
+        # on the wire when publish returns.
+        self.publisher.impl.set_queue_size(None)
         self.state = BaseState.IDLE
         self.foreign = ForeignMotionTracker()
         self.yielding_to = ""

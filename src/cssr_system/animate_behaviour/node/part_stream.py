@@ -22,7 +22,7 @@ import enum
 import io
 import time
 from collections import OrderedDict
-from typing import Callable, NamedTuple, Optional
+from typing import Callable, Optional
 
 import actionlib
 import numpy
@@ -79,11 +79,27 @@ def goal_state_name(state: int) -> str:
     return _GOAL_STATE_NAMES.get(state, str(state))
 
 
-class SentGoal(NamedTuple):
-    number: int
-    purpose: str  # PURPOSE_ANIMATE or PURPOSE_HOME
-    spline: JointTrajectorySpline  # what the controller executes, on the stream's clock
-    handle: object  # actionlib ClientGoalHandle
+class SentGoal:
+    """A goal of ours: its number, purpose, actionlib handle, and the motion the controller makes of it."""
+
+    def __init__(self, number: int, purpose: str, handle, start_state, points, start_time: float) -> None:
+        self.number = number
+        self.purpose = purpose  # PURPOSE_ANIMATE or PURPOSE_HOME
+        self.handle = handle  # actionlib ClientGoalHandle
+        self.start_time = start_time  # on the stream's clock
+        self.end_time = start_time + points[-1].time
+        self._start_state = tuple(None if vector is None else numpy.array(vector, dtype=float)
+                                  for vector in start_state)  # a copy: the callers' arrays may change
+        self._points = points
+        self._spline: Optional[JointTrajectorySpline] = None
+
+    @property
+    def spline(self) -> JointTrajectorySpline:
+        """What the controller executes. Built when first needed (the next goal's start), not while goals are
+        being sent: at an enable every millisecond before the last part's goal counts."""
+        if self._spline is None:
+            self._spline = JointTrajectorySpline(*self._start_state, self._points, start_time=self.start_time)
+        return self._spline
 
 
 def goal_message(joints, points) -> FollowJointTrajectoryGoal:
@@ -91,10 +107,12 @@ def goal_message(joints, points) -> FollowJointTrajectoryGoal:
     goal = FollowJointTrajectoryGoal()
     goal.trajectory.joint_names = list(joints)
     goal.trajectory.header.stamp = rospy.Time(0)  # start now
-    for point in points:
-        goal.trajectory.points.append(JointTrajectoryPoint(
-            positions=list(point.positions), velocities=list(point.velocities),
-            accelerations=list(point.accelerations), time_from_start=rospy.Duration.from_sec(point.time)))
+    nanoseconds = numpy.rint(numpy.array([point.time for point in points]) * 1e9).astype(numpy.int64).tolist()
+    goal.trajectory.points = [
+        JointTrajectoryPoint(positions=list(point.positions), velocities=list(point.velocities),
+                             accelerations=list(point.accelerations),
+                             time_from_start=rospy.Duration(*divmod(nanosecond, 1000000000)))
+        for point, nanosecond in zip(points, nanoseconds)]
     return goal
 
 
@@ -105,7 +123,11 @@ def action_client(action: str) -> actionlib.ActionClient:
     # Feedback is not used: no connection, no thread, no decoding at the controller's rate (the controller
     # watcher's server_ready does not need it).
     client.feedback_sub.unregister()
-    # Cancels are rare and small: published at once rather than through a queue thread per controller.
+    # Goals and cancels are written by the thread that sends them, not handed to a queue thread per connection:
+    # a goal is on the wire when send_goal returns (so a stop is never lost to an exit), there is no thread hop
+    # before the first goal, and no thread per subscriber. The controllers read them at once; a goal is ~20 kB,
+    # far below a socket's buffer.
+    client.pub_goal.impl.set_queue_size(None)
     client.pub_cancel.impl.set_queue_size(None)
     return client
 
@@ -214,7 +236,7 @@ class PartStream:
             self._finish_goal("goal %d %s" % (event.goal_number, state_name))
             return
         now = self._clock()
-        if now - sent.spline.start_time >= HEALTHY_RUN:
+        if now - sent.start_time >= HEALTHY_RUN:
             self._failures = 0
         self._failures += 1
         delay = min(RETRY_DELAY * 2 ** (self._failures - 1), MAX_RETRY_DELAY)
@@ -315,7 +337,7 @@ class PartStream:
         lead = getattr(self._plan, "continuation_lead", None)
         if lead is None or self.state != PartState.ANIMATING or self.sent_purpose != PURPOSE_ANIMATE:
             return None
-        return self._sent.spline.end_time - lead
+        return self._sent.end_time - lead
 
     def _continuation_due(self, now: float) -> bool:
         at = self._continuation_at()
@@ -331,7 +353,7 @@ class PartStream:
             if deadline is not None:
                 deadlines.append(deadline)
         if self._sent is not None:
-            deadlines.append(self._sent.spline.end_time + LOST_RESULT_GRACE)
+            deadlines.append(self._sent.end_time + LOST_RESULT_GRACE)
         return min(deadlines) if deadlines else None
 
     # -- goals --------------------------------------------------------------------------------
@@ -362,7 +384,7 @@ class PartStream:
         """Positions and velocities to start the next goal from: what the controller is executing
         for us (it splices new goals onto that), else the measured joints, else the centre."""
         joints = PARTS[self.part].joints
-        if self._sent is not None and now <= self._sent.spline.end_time:
+        if self._sent is not None and now <= self._sent.end_time:
             positions, velocities, accelerations = self._sent.spline.sample(now)
             return numpy.asarray(positions), numpy.asarray(velocities), numpy.asarray(accelerations)
         measured = self._positions(joints)
@@ -394,8 +416,7 @@ class PartStream:
                                 "" if result is None else result.error_string))
 
         handle = self.client.send_goal(goal, transition)
-        self._sent = SentGoal(number, purpose, JointTrajectorySpline(positions, velocities, accelerations, points,
-                                                                     start_time=now), handle)
+        self._sent = SentGoal(number, purpose, handle, (positions, velocities, accelerations), points, now)
         self._unfinished[number] = self._sent
         while len(self._unfinished) > MAX_UNFINISHED_GOALS:  # a controller that never answers
             self._unfinished.popitem(last=False)
@@ -415,7 +436,7 @@ class PartStream:
 
     def overdue(self, now: float) -> bool:
         """True when our goal should long have ended but no result came (a lost result)."""
-        return self._sent is not None and now > self._sent.spline.end_time + LOST_RESULT_GRACE
+        return self._sent is not None and now > self._sent.end_time + LOST_RESULT_GRACE
 
     def is_current(self, goal_number: int) -> bool:
         return self._sent is not None and self._sent.number == goal_number
