@@ -63,3 +63,11 @@ def test_twists_are_foreign_by_caller_id():
     watch._on_twist(ours, "/pepper_dcm/cmd_moveto")
     watch._on_twist(theirs, "/pepper_dcm/cmd_moveto")
     assert posted == [ForeignTwist("/pepper_dcm/cmd_moveto", "/overtAttention", theirs)]
+
+
+def test_every_status_message_is_told_to_the_controller_watcher_by_action():
+    seen = []
+    watch = ForeignCommandWatch("/animateBehaviour", [].append, lambda: 100.0, status_seen=seen.append)
+    watch._on_status(status_array(), ACTION)
+    watch._on_status(status_array(("/animateBehaviour-1-16.0", GoalStatus.ACTIVE)), ACTION)
+    assert seen == [ACTION, ACTION]

@@ -1,12 +1,14 @@
 """The watcher thread: follows which controllers are there, without blocking anyone.
 
-A missing or slow controller never blocks the service, the other parts or shutdown: twice a second the
-watcher checks each controller's action server once (no waiting), posts `ControllerConnected` when one
-appears and `ControllerLost` when one goes away (a controller spawner restarting it), and reports a
-controller still missing every WAIT_REPORT_PERIOD seconds (README: "What moves, and how")."""
+A missing or slow controller never blocks the service, the other parts or shutdown: twice a second, and at
+once when a status message comes from a controller not yet connected (so a node enabled as soon as it starts
+sends its first goals within a status period of the controllers appearing), the watcher checks each
+controller's action server once (no waiting), posts `ControllerConnected` when one appears and
+`ControllerLost` when one goes away (a controller spawner restarting it), and reports a controller still missing
+every WAIT_REPORT_PERIOD seconds (README: "What moves, and how")."""
 import threading
 import time
-from typing import Callable, Dict, List
+from typing import Callable, Dict, List, Set
 
 import rospy
 
@@ -40,7 +42,14 @@ class ControllerWatcher:
         self._report_error = report_error
         self._missing_since: Dict[str, float] = {}  # when each missing controller was first looked for
         self._last_report: Dict[str, float] = {}
+        self._ready: Set[str] = set()  # the controllers found ready at the last check
+        self._wake = threading.Event()
         self.thread = threading.Thread(target=self.run, name="watcher", daemon=True)
+
+    def status_seen(self, action: str) -> None:
+        """A status message came from `action`'s server (any thread): check now if it was not ready."""
+        if action not in self._ready:
+            self._wake.set()
 
     def run(self) -> None:
         while not self._stopped.is_set() and not rospy.is_shutdown():
@@ -48,12 +57,14 @@ class ControllerWatcher:
                 self.check()
             except Exception as error:  # the watcher goes on: a missed check is made again in WATCH_PERIOD
                 self._report_error("watcher", error)
-            self._stopped.wait(WATCH_PERIOD)
+            self._wake.wait(WATCH_PERIOD)
+            self._wake.clear()
 
     def check(self) -> None:
         for stream in self._streams():
             action = stream.action
             ready = server_ready(stream.client)
+            (self._ready.add if ready else self._ready.discard)(action)
             if ready and not stream.connected:
                 self._post(ControllerConnected(stream.part, action))
             elif not ready and stream.connected:

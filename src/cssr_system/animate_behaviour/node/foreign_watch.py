@@ -42,8 +42,10 @@ def trajectory_end(trajectory: JointTrajectory, received_at: float) -> float:
 
 class ForeignCommandWatch:
     def __init__(self, own_caller_id: str, post: Callable[[object], None], clock: Callable[[], float],
-                 report_error: Callable[[str, Exception], None] = None) -> None:
+                 report_error: Callable[[str, Exception], None] = None,
+                 status_seen: Callable[[str], None] = None) -> None:
         self._report_error = report_error
+        self._status_seen = status_seen  # told of every status message, by action (the controller watcher)
         self._own_prefix = own_caller_id + "-"
         self._own = own_caller_id
         self._post = post
@@ -76,6 +78,8 @@ class ForeignCommandWatch:
     def _on_status(self, message: GoalStatusArray, action: str) -> None:
         """Posts a ForeignGoal when another client's goal is first seen running, a ForeignResult when it ends
         (a terminal state, or gone from the list)."""
+        if self._status_seen is not None:
+            self._status_seen(action)
         listed = set()
         with self._lock:
             running = self._running[action]

@@ -50,7 +50,6 @@ class AnimateBehaviour:
         # The clock the controllers execute goals on (ROS time, as Gazebo's controllers): the streams' deadlines.
         self.clock = rospy.get_time
         self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text))
-        self.watch = ForeignCommandWatch(rospy.get_caller_id(), self.events.put, self.clock, self.report_error)
         self.status = StatusPublisher()
         self.services = ActivationServices(self.events.put, self.log)
         self.parts: Dict[str, PartStream] = {}  # by action namespace: one client each, kept for life
@@ -61,6 +60,8 @@ class AnimateBehaviour:
         self._supervisor = threading.Thread(target=self._run, name="supervisor", daemon=True)
         self._watcher = ControllerWatcher(self._stream_snapshot, self.events.put, self.log, self._stopped,
                                           self.report_error)
+        self.watch = ForeignCommandWatch(rospy.get_caller_id(), self.events.put, self.clock, self.report_error,
+                                         self._watcher.status_seen)
 
     # -- start-up -----------------------------------------------------------------------------
     def start(self, config_file: str, config: Configuration, topics: Dict[str, str]) -> None:
