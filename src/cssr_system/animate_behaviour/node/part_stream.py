@@ -22,7 +22,7 @@ import enum
 import io
 import time
 from collections import OrderedDict
-from typing import Callable, Optional
+from typing import Callable, NamedTuple, Optional
 
 import actionlib
 import numpy
@@ -132,6 +132,31 @@ def action_client(action: str) -> actionlib.ActionClient:
     return client
 
 
+PREPARED_START_TOLERANCE = 0.02  # rad: how far a part may have moved from where its prepared first goal starts
+
+
+class PreparedGoal(NamedTuple):
+    """A first animation goal planned while the node is disabled (README: "Performance"), from where the part
+    rests. An enable sends it as it is, or plans afresh when the part has moved since."""
+    start: numpy.ndarray  # the positions it was planned from
+    timed: TimedTrajectory
+    points: list
+    goal: FollowJointTrajectoryGoal
+
+    def fits(self, positions, velocities) -> bool:
+        return (not numpy.any(velocities)
+                and float(numpy.max(numpy.abs(numpy.asarray(positions) - self.start))) <= PREPARED_START_TOLERANCE)
+
+
+def prepare_goal(part: str, plan: Planner, start_positions) -> PreparedGoal:
+    """The first goal of `part` from rest at `start_positions`, ready to send."""
+    start = numpy.array(start_positions, dtype=float)
+    zeros = numpy.zeros(start.size)
+    timed = plan(0.0, start, zeros, zeros)
+    points = to_points(timed)
+    return PreparedGoal(start, timed, points, goal_message(PARTS[part].joints, points))
+
+
 def rehearse(part: str, plan: Planner) -> None:
     """Plans, builds and encodes one goal of `part` and its log line without sending them, so that the first
     `enabled` pays no first-use costs (on the robot laptop's Python they made it take ~80 ms)."""
@@ -163,6 +188,7 @@ class PartStream:
         self._debug = debug
         self._warn = warn
         self._plan: Optional[Planner] = None
+        self._prepared: Optional[PreparedGoal] = None  # the first animation goal, planned ahead
         self._animated = False  # a goal of ours moved the part away from its centre since the last return
         self._failures = 0  # failed goals in a row: the back-off
         self.foreign = ForeignMotionTracker()  # other nodes' motion on this controller
@@ -186,10 +212,13 @@ class PartStream:
     def active(self) -> bool:
         return self.state != PartState.IDLE
 
-    def enable(self, motion: PartMotion, plan: Planner, quiet_time: float = DEFAULT_QUIET_TIME) -> None:
-        """Animate `motion` with goals from `plan`; a running goal is replaced smoothly (the controller splices)."""
+    def enable(self, motion: PartMotion, plan: Planner, quiet_time: float = DEFAULT_QUIET_TIME,
+               prepared: Optional[PreparedGoal] = None) -> None:
+        """Animate `motion` with goals from `plan`, the first one `prepared` if it still fits where the part is; a
+        running goal is replaced smoothly (the controller splices)."""
         self.motion = motion
         self._plan = plan
+        self._prepared = prepared
         self.foreign.quiet_time = quiet_time
         self.retry_at = None
         if self.state == PartState.YIELDING:
@@ -368,7 +397,8 @@ class PartStream:
             self._send_animation(why)
 
     def _send_animation(self, why: str) -> None:
-        self._send(PURPOSE_ANIMATE, self._plan)
+        prepared, self._prepared = self._prepared, None
+        self._send(PURPOSE_ANIMATE, self._plan, prepared)
         self._animated = True
         self.transition_to(PartState.ANIMATING, why)
 
@@ -379,6 +409,9 @@ class PartStream:
         return time_trajectory(numpy.array([PARTS[self.part].centre]), PARTS[self.part].joints, positions,
                                velocities, HOME_GESTURE_DURATION, start_accelerations=accelerations,
                                position_bounds=bounds)
+
+    def measured_positions(self) -> Optional[numpy.ndarray]:
+        return self._positions(PARTS[self.part].joints)
 
     def current_state(self, now: float):
         """Positions and velocities to start the next goal from: what the controller is executing
@@ -395,15 +428,18 @@ class PartStream:
         zeros = numpy.zeros(len(joints))
         return measured, zeros, zeros
 
-    def _send(self, purpose: str, plan: Planner) -> TimedTrajectory:
+    def _send(self, purpose: str, plan: Planner, prepared: Optional[PreparedGoal] = None) -> TimedTrajectory:
         now = self._clock()
         joints = PARTS[self.part].joints
         positions, velocities, accelerations = self.current_state(now)
-        timed = plan(now, positions, velocities, accelerations)
-        points = to_points(timed)
+        if prepared is not None and prepared.fits(positions, velocities):
+            timed, points, goal = prepared.timed, prepared.points, prepared.goal
+        else:
+            timed = plan(now, positions, velocities, accelerations)
+            points = to_points(timed)
+            goal = goal_message(joints, points)
         bands = self.motion.bounds if self.motion is not None else ()
         lower, upper = [b.lower for b in bands], [b.upper for b in bands]
-        goal = goal_message(joints, points)
         self._goal_number += 1
         number = self._goal_number
 
@@ -428,6 +464,12 @@ class PartStream:
                         moving=self.motion.moving if self.motion is not None else (),
                         times=timed.times, positions=timed.positions)
         return timed
+
+    def prepare(self) -> None:
+        """Builds what the next goal or the stop will need from the goal just sent (its spline), while nothing
+        waits: after an enable's goals have all left, not before them."""
+        if self._sent is not None:
+            self._sent.spline
 
     def cancel(self) -> None:
         if self._sent is not None and self.connected:

@@ -23,6 +23,7 @@ from cssr_system.animate_behaviour.node.events import (ControllerConnected, Disa
                                                        Shutdown, ForeignCommand, ForeignGoal, ForeignResult,
                                                        ForeignTwist, ControllerLost)
 from cssr_system.animate_behaviour.node.foreign_motion import GOAL
+from cssr_system.animate_behaviour.node.first_goals import PreparedEnable, prepare_enable
 from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch
 from cssr_system.animate_behaviour.node.joint_states import JointStateCache
 from cssr_system.animate_behaviour.node.part_stream import PartStream, rehearse, action_client
@@ -47,6 +48,8 @@ class AnimateBehaviour:
         self.config: Optional[Configuration] = None
         self.enabled = False
         self.rng = None
+        self._expected: Optional[tuple] = None  # (configuration, topics) the next enable is expected to bring
+        self._prepared: Optional[PreparedEnable] = None  # its first goals, planned while disabled
         # The clock the controllers execute goals on (ROS time, as Gazebo's controllers): the streams' deadlines.
         self.clock = rospy.get_time
         self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text))
@@ -79,6 +82,7 @@ class AnimateBehaviour:
             rospy.loginfo("%s: %-18s %s", NODE_NAME, key, value)
         rospy.Subscriber(JOINT_STATES_TOPIC, JointState, self.joint_states.update, queue_size=1)
         self._rehearse(config, topics)
+        self._expected = (config, topics)
         self._supervisor.start()
         self._watcher.thread.start()
         self._publish_status()
@@ -140,6 +144,10 @@ class AnimateBehaviour:
                     self._handle(event)
                 self._tick()
                 self._publish_status()
+                if self.events.empty():  # nothing waits: build what the next commands need
+                    for stream in self.parts.values():
+                        stream.prepare()
+                    self._prepare_first_goals()
             except Exception as error:  # the supervisor must survive anything a callback brings
                 self.report_error("supervisor", error)
             if isinstance(event, Shutdown):
@@ -159,10 +167,11 @@ class AnimateBehaviour:
             self._enable(event.config_file, event.config, event.topics)
             event.done.set()
         elif isinstance(event, Disable):
-            self._disable(event.reason)
-            event.done.set()
+            was_enabled = self._disable()
+            event.done.set()  # the robot is told to stop: the caller's reply need not wait for the lines below
+            self._report_disabled(was_enabled, event.reason)
         elif isinstance(event, Shutdown):
-            self._disable(event.reason)
+            self._report_disabled(self._disable(), event.reason)
         elif isinstance(event, GoalDone):
             stream = self.parts.get(event.action)
             if stream is not None:
@@ -187,10 +196,23 @@ class AnimateBehaviour:
         for base in self.bases.values():
             base.tick(now, self.log)
 
+    def _prepare_first_goals(self) -> None:
+        if self.enabled or self._expected is None or (self._prepared is not None and self._prepared.fits(self.parts)):
+            return
+        self._prepared = prepare_enable(*self._expected, self.rng, self.parts)
+        if self._prepared is not None:
+            self.rng = self._prepared.rng
+            rospy.logdebug("%s: first goals of the next enable planned (%s).", NODE_NAME,
+                           ", ".join(sorted(self._prepared.goals)))
+
     def _enable(self, config_file: str, config: Configuration, topics: Dict[str, str]) -> None:
         reconfigured = self.enabled
-        if config.random_seed is not None or self.rng is None or reconfigured:
-            self.rng = make_rng(config.random_seed)
+        prepared, self._prepared = self._prepared, None
+        if prepared is None or reconfigured or not prepared.matches(config, topics):
+            prepared = None
+            if config.random_seed is not None or self.rng is None or reconfigured:
+                self.rng = make_rng(config.random_seed)
+        self._expected = (config, topics)
         self.config = config
         self.apply_verbosity(config)
         self.log.write(contract.CONFIGURATION_LOADED, file=config_file,
@@ -201,9 +223,10 @@ class AnimateBehaviour:
         for stream in list(self.parts.values()):
             if stream.active and (stream.part not in motions or stream.action != topics.get(stream.part)):
                 stream.disable(config.home_on_disable)
-        style = MotionStyle(config, self.rng)
+        style = MotionStyle(config, self.rng) if prepared is None else prepared.style
         for key, motion in motions.items():  # the goals first: console lines take milliseconds each
-            self._stream_for(key, topics[key]).enable(motion, style.planner(motion), config.yield_quiet_time)
+            planner, first = prepared.goals[key] if prepared is not None else (style.planner(motion), None)
+            self._stream_for(key, topics[key]).enable(motion, planner, config.yield_quiet_time, first)
         wheels = topics.get(WHEELS_KEY) if "rotation" in config.behaviour else None
         if self.active_base is not None and self.active_base.topic != wheels:
             self.active_base.stop(config.home_on_disable, self.clock(), self.log)
@@ -220,9 +243,10 @@ class AnimateBehaviour:
             for line in narrow_bands(list(motions.values()), DRIVER_JOINT_PRECISION):
                 rospy.logwarn("%s: %s.", NODE_NAME, line)
 
-    def _disable(self, reason: str) -> None:
+    def _disable(self) -> bool:
+        """Stops every part and the base; False when the node was not enabled."""
         if not self.enabled:
-            return
+            return False
         home = self.config.home_on_disable
         if self.active_base is not None:  # first: a streamed turn ends with one zero Twist, sent at once
             self.active_base.stop(home, self.clock(), self.log)
@@ -230,8 +254,12 @@ class AnimateBehaviour:
         for stream in list(self.parts.values()):
             stream.disable(home)
         self.enabled = False
-        self.log.write(contract.BEHAVIOUR_ENDED, reason=reason, home=home)
-        rospy.loginfo("%s: stopped (%s).", NODE_NAME, reason)
+        return True
+
+    def _report_disabled(self, was_enabled: bool, reason: str) -> None:
+        if was_enabled:
+            self.log.write(contract.BEHAVIOUR_ENDED, reason=reason, home=self.config.home_on_disable)
+            rospy.loginfo("%s: stopped (%s).", NODE_NAME, reason)
 
     def _stream_for(self, part: str, action: str) -> PartStream:
         with self._parts_lock:
