@@ -32,7 +32,9 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 from wire_recorder import WireRecorder, wait_until  # noqa: E402
 
-from cssr_system.animate_behaviour.contract import NODE_NAME, SERVICE_PATH, SET_ENABLED_SERVICE_NAME  # noqa: E402
+from cssr_system.animate_behaviour.contract import (NODE_NAME, SERVICE_PATH, SET_ENABLED_SERVICE_NAME,  # noqa: E402
+                                                    STATUS_TOPIC)
+from cssr_system.msg import AnimateBehaviourStatus  # noqa: E402
 from cssr_system.animate_behaviour.configuration import ALL_BEHAVIOURS, load_configuration  # noqa: E402
 from cssr_system.animate_behaviour.configuration import shipped_configuration_path, topic_file_path  # noqa: E402
 from cssr_system.animate_behaviour.topics import load_topic_map  # noqa: E402
@@ -157,6 +159,8 @@ class Benchmark:
         self.topics = dict(load_topic_map(topic_file_path(configuration)).topics)
         self.parts = {key for key in self.topics if key in PARTS}
         self.wire = WireRecorder(self.topics)
+        self.status = None
+        self._status_subscriber = rospy.Subscriber("/" + STATUS_TOPIC, AnimateBehaviourStatus, self._on_status)
         wait_until(self.wire.connected, 10)
 
     def node_command(self, *extra):
@@ -181,6 +185,14 @@ class Benchmark:
         for key, at in self._from(self.wire.cancels, since).items():
             found[key] = min(at, found.get(key, at))
         return found
+
+    def _on_status(self, message) -> None:
+        self.status = message
+
+    def at_rest(self) -> bool:
+        """The node reports itself disabled with every part idle (back at its centre)."""
+        return self.status is not None and not self.status.enabled and all(
+            part.state == "idle" for part in self.status.parts)
 
     def cycles_of(self, subject: Subject, figures: dict) -> None:
         subject.call("enabled")
@@ -211,6 +223,10 @@ class Benchmark:
             if zeros:
                 figures["zero twist after disabled"].append(zeros[0] - sent)
             time.sleep(0.4)
+            # The next enable starts from rest, as after any disabled spell longer than the return home (the
+            # reference has no status: the sleep above is its rest).
+            if wait_until(self.at_rest, 3.0):
+                time.sleep(0.2)
 
     def set_enabled_cycles(self, figures: dict) -> None:
         call = rospy.ServiceProxy("/" + SET_ENABLED_SERVICE_NAME, SetBool, persistent=True)
