@@ -54,6 +54,13 @@ class WireRecorder:
         """True once every goal and Wheels subscription has a publisher connected."""
         return all(subscriber.get_num_connections() > 0 for subscriber in self._needed)
 
+    def connected_to(self, caller_id):
+        """True once every goal and cancel subscription has a connection from the node `caller_id`."""
+        actions = [subscriber for subscriber in self._subscribers
+                   if subscriber.name.endswith(("/goal", "/cancel"))]
+        return all(any(connection.callerid_pub == caller_id for connection in subscriber.impl.connections)
+                   for subscriber in actions)
+
     def unregister(self):
         for subscriber in self._subscribers:
             subscriber.unregister()

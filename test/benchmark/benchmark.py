@@ -269,6 +269,7 @@ class Benchmark:
                 if subject is None:
                     self.wire.clear()
                     subject = Subject(label, command, self.folder)
+                    wait_until(lambda: self.wire.connected_to(NODE), 5)  # its cancels, too, are seen
                     subject.call("enabled")
                     wait_until(lambda: set(self._from(self.wire.goals, 0.0)) >= self.parts, 5)
                     time.sleep(0.5)
