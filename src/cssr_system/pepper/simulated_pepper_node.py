@@ -73,6 +73,8 @@ class SimulatedPepperNode:
                 goal_cb=functools.partial(self.on_goal, key), cancel_cb=functools.partial(self.on_cancel, key),
                 auto_start=False)
         for server in self.servers.values():
+            # actionlib's status timer may fire while rospy closes the topics at shutdown: quiet, as on_tick is.
+            server.publish_status_async = functools.partial(quiet_at_shutdown, server.publish_status_async)
             server.start()
         # Each controller also obeys trajectories on its command topic, as joint_trajectory_controller does.
         self.command_subscribers = [
@@ -173,12 +175,8 @@ class SimulatedPepperNode:
                            reply)
 
     # -- update loop ---------------------------------------------------------------------------
-    def on_tick(self, _event) -> None:
-        try:
-            self._tick()
-        except rospy.ROSException:
-            if not rospy.core.is_shutdown_requested():  # a closed topic is expected only at shutdown
-                raise
+    def on_tick(self, event) -> None:
+        quiet_at_shutdown(lambda _event: self._tick(), event)
 
     def _tick(self) -> None:
         for key, server in self.servers.items():
@@ -229,6 +227,15 @@ class SimulatedPepperNode:
                                                          actual=point, error=error)
                 feedback.header.stamp = stamp
                 goal_handle.publish_feedback(feedback)
+
+
+def quiet_at_shutdown(callback, event) -> None:
+    """A timer's `callback`; publishing to a closed topic is expected only at shutdown, and then ignored."""
+    try:
+        callback(event)
+    except rospy.ROSException:
+        if not rospy.core.is_shutdown_requested():
+            raise
 
 
 def main() -> int:
