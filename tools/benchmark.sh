@@ -5,19 +5,34 @@
 #   BENCHMARK_EXIT_RUNS (exits per signal, default 3), BENCHMARK_PLATFORMS (default "robot simulator"),
 #   BENCHMARK_JSON (default: <workspace>/benchmark.json),
 #   BENCHMARK_SOAK (s of soak with short goals, default 0: none) and BENCHMARK_GROWTH_CYCLES (quick enable/disable
-#   cycles after it, default 0): on the first platform only.
+#   cycles after it, default 0): on the first platform only. BENCHMARK_PYTHON38=1: the node runs under Python 3.8
+#   with Noetic's versions (the environment of tools/unit_tests_noetic_python.sh, made if missing).
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 cd "$REPO_DIR"
 prepare_workspace > /dev/null
 json=${BENCHMARK_JSON:-$WORKSPACE_DIR/benchmark.json}
 rm -f "$json"
+node_python=()
+if [ "${BENCHMARK_PYTHON38:-0}" = 1 ]; then  # the node under Python 3.8 with Noetic's versions (make test's venv)
+  venv="$WORKSPACE_DIR/venv-noetic"
+  [ -x "$venv/bin/python" ] || bash tools/unit_tests_noetic_python.sh "$WORKSPACE_DIR/unit-python38.xml" > /dev/null
+  # A running node needs netifaces too (rospy's connections; Noetic has python3-netifaces), the unit tests do not.
+  "$venv/bin/python" -c "import netifaces" 2> /dev/null ||
+    "$venv/bin/pip" install --quiet --disable-pip-version-check netifaces==0.11.0 || true
+  if [ ! -x "$venv/bin/python" ]; then
+    echo "benchmark: no Python 3.8 environment (tools/unit_tests_noetic_python.sh could not make one)" >&2
+    exit 1
+  fi
+  export PYTHONPATH="${PYTHONPATH:+$PYTHONPATH:}$venv/ros-modules"
+  node_python=(--node-python "$venv/bin/python")
+fi
 soak=${BENCHMARK_SOAK:-0}
 growth=${BENCHMARK_GROWTH_CYCLES:-0}
 for platform in ${BENCHMARK_PLATFORMS:-robot simulator}; do
   python3 test/benchmark/benchmark.py --platform "$platform" --cycles "${BENCHMARK_CYCLES:-30}" \
     --cpu-window "${BENCHMARK_CPU_WINDOW:-20}" --exit-runs "${BENCHMARK_EXIT_RUNS:-3}" --soak "$soak" \
-    --growth-cycles "$growth" --json "$json"
+    --growth-cycles "$growth" --json "$json" "${node_python[@]}"
   soak=0 growth=0
   echo
 done
