@@ -192,6 +192,14 @@ class Benchmark:
             found[key] = min(at, found.get(key, at))
         return found
 
+    def _record_every_part(self, arrivals, sent: float, samples: list, timeout: float) -> None:
+        """Waits up to `timeout` for `arrivals()` (part key -> arrival) to hold every part, then records the
+        last one's delay after `sent`; records nothing when a part never came."""
+        wait_until(lambda: set(arrivals()) >= self.parts, timeout)
+        found = arrivals()
+        if set(found) >= self.parts:
+            samples.append(max(found.values()) - sent)
+
     def _on_status(self, message) -> None:
         self.status = message
 
@@ -210,19 +218,14 @@ class Benchmark:
             sent = time.monotonic()
             subject.call("enabled")
             figures["setActivation enabled reply"].append(time.monotonic() - sent)
-            wait_until(lambda: set(self._from(self.wire.goals, sent)) >= self.parts, 2)
-            firsts = self._from(self.wire.goals, sent)
-            if set(firsts) >= self.parts:
-                figures["first goal of every part after enabled"].append(max(firsts.values()) - sent)
+            self._record_every_part(lambda: self._from(self.wire.goals, sent), sent,
+                                    figures["first goal of every part after enabled"], 2)
             time.sleep(0.4)
             sample_process(subject.pid, figures)
             sent = time.monotonic()
             subject.call("disabled")
             figures["setActivation disabled reply"].append(time.monotonic() - sent)
-            wait_until(lambda: set(self._stops(sent)) >= self.parts, 2)
-            stops = self._stops(sent)
-            if set(stops) >= self.parts:
-                figures["stop of every part after disabled"].append(max(stops.values()) - sent)
+            self._record_every_part(lambda: self._stops(sent), sent, figures["stop of every part after disabled"], 2)
             zeros = [at for at, key, message in self.wire.snapshot(self.wire.twists)
                      if at >= sent and message.angular.z == 0.0 and message.linear.x == 0.0
                      and message.linear.y == 0.0]
@@ -279,10 +282,8 @@ class Benchmark:
                     time.sleep(2.0)  # started, then enabled later (its controllers have connected)
                     sent = time.monotonic()
                     subject.call("enabled")
-                    wait_until(lambda: set(self._from(self.wire.goals, sent)) >= self.parts, 5)
-                    firsts = self._from(self.wire.goals, sent)
-                    if set(firsts) >= self.parts:
-                        figures[COLD_FIRST_GOAL].append(max(firsts.values()) - sent)
+                    self._record_every_part(lambda: self._from(self.wire.goals, sent), sent,
+                                            figures[COLD_FIRST_GOAL], 5)
                     time.sleep(0.5)
                 moving = set(self._from(self.wire.goals, 0.0))
                 sent = time.monotonic()
