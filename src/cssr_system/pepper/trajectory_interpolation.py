@@ -255,9 +255,9 @@ def points_from_arrays(times, positions, velocities=None, accelerations=None) ->
     times = numpy.asarray(times, dtype=float).tolist()
     if not times:
         return []
-    positions = [tuple(row) for row in numpy.asarray(positions, dtype=float).reshape(len(times), -1).tolist()]
-    velocities = ([None] * len(times) if velocities is None else
-                  [tuple(row) for row in numpy.asarray(velocities, dtype=float).reshape(len(times), -1).tolist()])
-    accelerations = ([None] * len(times) if accelerations is None else
-                     [tuple(row) for row in numpy.asarray(accelerations, dtype=float).reshape(len(times), -1).tolist()])
-    return [TrajectoryPoint(*point) for point in zip(times, positions, velocities, accelerations)]
+
+    def rows(values):
+        if values is None:
+            return [None] * len(times)
+        return [tuple(row) for row in numpy.asarray(values, dtype=float).reshape(len(times), -1).tolist()]
+    return [TrajectoryPoint(*point) for point in zip(times, rows(positions), rows(velocities), rows(accelerations))]
