@@ -31,7 +31,7 @@ class PreparedEnable(NamedTuple):
         for part, (_, goal) in self.goals.items():
             stream = streams.get(self.topics[part])
             measured = None if stream is None or stream.active else stream.measured_positions()
-            if measured is None or not goal.fits(measured, ()):
+            if measured is None or not goal.fits(measured):
                 return False
         return True
 

@@ -143,8 +143,9 @@ class PreparedGoal(NamedTuple):
     points: list
     goal: FollowJointTrajectoryGoal
 
-    def fits(self, positions, velocities) -> bool:
-        return (not numpy.any(velocities)
+    def fits(self, positions, velocities=None) -> bool:
+        """The part is at rest (no velocities given: known to be idle) within PREPARED_START_TOLERANCE of `start`."""
+        return ((velocities is None or not numpy.any(velocities))
                 and float(numpy.max(numpy.abs(numpy.asarray(positions) - self.start))) <= PREPARED_START_TOLERANCE)
 
 
