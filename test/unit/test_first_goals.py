@@ -16,20 +16,19 @@ TOPICS = {part: "/pepper_dcm/%s_controller/follow_joint_trajectory" % part for p
 
 
 def resting_streams(offset=0.0):
-    """Idle streams by action whose joints rest `offset` from the centre."""
-    return {TOPICS[part]: SimpleNamespace(active=False, positions=numpy.array(PARTS[part].centre) + offset,
-                                          measured_positions=None) for part in PARTS}
-
-
-def finish(streams):
-    for stream in streams.values():
-        stream.measured_positions = (lambda stream=stream: stream.positions)
+    """Idle streams by action whose measured joints (`positions`, which a test may move) rest `offset` from the
+    centre."""
+    streams = {}
+    for part in PARTS:
+        stream = SimpleNamespace(active=False, positions=numpy.array(PARTS[part].centre) + offset)
+        stream.measured_positions = lambda stream=stream: stream.positions
+        streams[TOPICS[part]] = stream
     return streams
 
 
 def test_seeded_first_goals_are_those_an_enable_would_plan():
     config = default_configuration(random_seed=11)
-    streams = finish(resting_streams(0.01))
+    streams = resting_streams(0.01)
     prepared = prepare_enable(config, TOPICS, make_rng(999), streams)
     style = MotionStyle(config, make_rng(11))
     for motion in animated_parts(config, list(TOPICS)):  # the enable's order
@@ -45,24 +44,24 @@ def test_seeded_first_goals_are_those_an_enable_would_plan():
 def test_without_a_seed_the_nodes_generator_is_used_and_advanced():
     rng = make_rng(5)
     before = rng.bit_generator.state
-    prepared = prepare_enable(default_configuration(random_seed=None), TOPICS, rng, finish(resting_streams()))
+    prepared = prepare_enable(default_configuration(random_seed=None), TOPICS, rng, resting_streams())
     assert prepared.rng is rng and rng.bit_generator.state != before
 
 
 def test_nothing_is_prepared_for_breathing_for_a_moving_part_or_unknown_joints():
     config = default_configuration(random_seed=3)
-    assert prepare_enable(config._replace(motion_style="breathing"), TOPICS, None, finish(resting_streams())) is None
-    busy = finish(resting_streams())
+    assert prepare_enable(config._replace(motion_style="breathing"), TOPICS, None, resting_streams()) is None
+    busy = resting_streams()
     busy[TOPICS["LArm"]].active = True
     assert prepare_enable(config, TOPICS, None, busy) is None
-    unknown = finish(resting_streams())
+    unknown = resting_streams()
     unknown[TOPICS["Leg"]].measured_positions = lambda: None
     assert prepare_enable(config, TOPICS, None, unknown) is None
 
 
 def test_prepared_goals_stop_fitting_when_a_part_moves_or_the_configuration_changes():
     config = default_configuration(random_seed=3)
-    streams = finish(resting_streams())
+    streams = resting_streams()
     prepared = prepare_enable(config, TOPICS, None, streams)
     assert prepared.fits(streams) and prepared.matches(config, TOPICS)
     streams[TOPICS["RArm"]].positions = streams[TOPICS["RArm"]].positions + 2 * PREPARED_START_TOLERANCE
