@@ -40,6 +40,8 @@ MISSING_ACTION = "/missing/LeftHand_controller/follow_joint_trajectory"
 SHORT_GOALS = ["_numPoints:=2", "_gestureDuration:=0.5", "_legRepeatFactor:=1", "_numPointsLeg:=1"]
 EXIT_BOUND = 1.0  # s from a signal to the node's exit
 RESUME_BOUND = 3.0  # s from a controller's return to the part's next goal
+NODE = "/animateBehaviour"
+ANIMATED_KEYS = ("RArm", "LArm", "Leg")  # parts every case watches: their controllers are the standard ones
 
 
 class Node:
@@ -121,18 +123,21 @@ class FaultsTest(unittest.TestCase):
 
     # -- helpers ----------------------------------------------------------------------------------
     def start(self, *arguments):
-        if rospy.has_param("/animateBehaviour"):  # private parameters of an earlier case's node stay on the server
-            rospy.delete_param("/animateBehaviour")
+        if rospy.has_param(NODE):  # private parameters of an earlier case's node stay on the server
+            rospy.delete_param(NODE)
         arguments = ("_behaviour:=body", "_logFile:=%s" % os.path.join(self.case_folder, "node.log")) + arguments
         node = Node(self.case_folder, *arguments)
         self.addCleanup(lambda: node.process.poll() is None and node.stop())
+        # Its first goals leave at the enable: the recorder must hear them (the next come seconds later).
+        self.assertTrue(wait_until(lambda: self.wire.connected_to(NODE, ANIMATED_KEYS), 10),
+                        "the recorder hears the node's goals")
         return node
 
     def our_goals(self, keys, since):
         return [(at, key) for at, key, message in self.wire.snapshot(self.wire.goals)
-                if key in keys and at >= since and message._connection_header.get("callerid") == "/animateBehaviour"]
+                if key in keys and at >= since and message._connection_header.get("callerid") == NODE]
 
-    def assert_animates(self, node, keys=("RArm", "LArm", "Leg"), seconds=2.0):
+    def assert_animates(self, node, keys=ANIMATED_KEYS, seconds=2.0):
         since = time.monotonic()
         time.sleep(seconds)
         # A controller the node has not connected yet (it checks twice a second) gets its goal on connecting.
@@ -141,7 +146,7 @@ class FaultsTest(unittest.TestCase):
         self.assertEqual(moved, set(keys), "goals of every part while enabled")
         self.assertIsNone(node.process.poll(), "the node is alive")
 
-    def assert_stops(self, node, keys=("RArm", "LArm", "Leg")):
+    def assert_stops(self, node, keys=ANIMATED_KEYS):
         """`disabled`: one return-to-centre goal per part, then nothing more."""
         disabled = time.monotonic()
         self.assertEqual(node.call("disabled").success, REPLY_SUCCESS)

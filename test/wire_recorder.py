@@ -21,6 +21,7 @@ class WireRecorder:
         self.goals, self.cancels, self.results, self.twists = [], [], [], []
         self._needed = []  # subscribers that must be connected before measuring
         self._subscribers = []
+        self._names = dict(topics)
         for key, name in topics.items():
             if key == WHEELS_KEY:
                 subscriber = rospy.Subscriber(name, Twist, self._record, (self.twists, key))
@@ -54,11 +55,14 @@ class WireRecorder:
         """True once every goal and Wheels subscription has a publisher connected."""
         return all(subscriber.get_num_connections() > 0 for subscriber in self._needed)
 
-    def connected_to(self, caller_id):
-        """True once every goal and cancel subscription has a connection from the node `caller_id`."""
+    def connected_to(self, caller_id, keys=None):
+        """True once every goal and cancel subscription (of `keys`, or all) has an open connection from the node
+        `caller_id`. A node started just before sends its first goals at once: wait for this before enabling it."""
         actions = [subscriber for subscriber in self._subscribers
-                   if subscriber.name.endswith(("/goal", "/cancel"))]
-        return all(any(connection.callerid_pub == caller_id for connection in subscriber.impl.connections)
+                   if subscriber.name.endswith(("/goal", "/cancel"))
+                   and (keys is None or any(subscriber.name.startswith(self._names[key] + "/") for key in keys))]
+        return all(any(connection.callerid_pub == caller_id and not connection.done
+                       for connection in subscriber.impl.connections)
                    for subscriber in actions)
 
     def unregister(self):
