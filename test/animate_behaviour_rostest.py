@@ -16,6 +16,7 @@ import time
 import unittest
 
 import actionlib
+import rosgraph
 import rospkg
 import rospy
 import rostest
@@ -26,8 +27,9 @@ from wire_recorder import WireRecorder, next_goal_gaps, wait_until
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import load_configuration, topic_file_path
-from cssr_system.animate_behaviour.contract import REPLY_FAILURE, REPLY_SUCCESS, SERVICE_PATH
+from cssr_system.animate_behaviour.contract import NODE_NAME, REPLY_FAILURE, REPLY_SUCCESS, SERVICE_PATH
 from cssr_system.animate_behaviour.event_log import read_log
+from cssr_system.animate_behaviour.node.joint_state_feed import REST_DELAY
 from cssr_system.animate_behaviour.topics import WHEELS_KEY, load_topic_map
 from cssr_system.pepper.joint_table import JOINTS, PARTS, speed_limit
 from cssr_system.srv import setActivation
@@ -42,6 +44,12 @@ TOLERANCE = 1e-6
 
 PACKAGE_DIR = rospkg.RosPack().get_path("cssr_system")
 SCRIPT = os.path.join(PACKAGE_DIR, "scripts", "animateBehaviour.py")
+
+
+def listens_to_joint_states() -> bool:
+    """True while the master lists the node among /joint_states' subscribers."""
+    topics = dict(rosgraph.Master(rospy.get_name()).getSystemState()[1])
+    return "/" + NODE_NAME in topics.get("/joint_states", [])
 
 
 def expected_bounds(config, joint_name):
@@ -276,17 +284,23 @@ class AnimateBehaviourTest(unittest.TestCase):
     def test_first_segment_starts_where_a_gesture_left_the_arm(self):
         # Another node's gesture leaves the right arm far from its centre (shoulder pitch 0 rad,
         # 1.5 rad away); the first segment must start there, so it is stretched under the speed cap.
+        # It comes while the node rests and does not listen to /joint_states: the node hears the
+        # goal on the controller's status and listens again.
         gesture = actionlib.SimpleActionClient(self.topics["RArm"], FollowJointTrajectoryAction)
         self.assertTrue(gesture.wait_for_server(rospy.Duration(5)))
+        self.assertTrue(wait_until(lambda: not listens_to_joint_states(), REST_DELAY + 5.0),
+                        "a disabled node at rest does not listen to /joint_states")
         goal = FollowJointTrajectoryGoal()
         goal.trajectory.joint_names = list(PARTS["RArm"].joints)
         away = [0.0] + list(PARTS["RArm"].centre[1:])
         goal.trajectory.points = [JointTrajectoryPoint(positions=away, velocities=[0.0] * 5,
                                                        time_from_start=rospy.Duration(3.0))]
         gesture.send_goal(goal)
+        self.assertTrue(wait_until(listens_to_joint_states, 1.0), "another node's goal: the node listens again")
         self.assertTrue(gesture.wait_for_result(rospy.Duration(10)))
         time.sleep(1.3)  # the node lets another node's motion settle for its quiet time (yieldQuietTime, 1 s)
         goals, _ = self.run_behaviour("body", seconds=0.5)
+        self.assertTrue(listens_to_joint_states(), "enabled, the node listens")
         first = next(message for _, key, message in goals if key == "RArm").goal.trajectory
         distance = abs(first.points[0].positions[0] - away[0])
         # A rest-to-rest quintic peaks at 1.875 times its mean speed.

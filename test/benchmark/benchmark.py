@@ -38,6 +38,7 @@ from cssr_system.msg import AnimateBehaviourStatus  # noqa: E402
 from cssr_system.animate_behaviour.configuration import ALL_BEHAVIOURS, load_configuration  # noqa: E402
 from cssr_system.animate_behaviour.configuration import shipped_configuration_path, topic_file_path  # noqa: E402
 from cssr_system.animate_behaviour.topics import load_topic_map  # noqa: E402
+from cssr_system.animate_behaviour.node.joint_state_feed import REST_DELAY  # noqa: E402
 from cssr_system.pepper.joint_table import PARTS  # noqa: E402
 from cssr_system.srv import setActivation  # noqa: E402
 
@@ -306,6 +307,9 @@ class Benchmark:
         if node:  # the reference has neither the SetBool service nor the yielding
             self.set_enabled_cycles(figures)
             self.resume_delay(subject, figures)
+        if node:  # disabled means at rest: the parts are home and the node no longer listens to /joint_states
+            wait_until(self.at_rest, 10)
+            time.sleep(REST_DELAY)
         time.sleep(1.0)
         figures["CPU while disabled"] = cpu_shares(subject.pid, self.cpu_window, figures)
         subject.call("enabled")

@@ -92,3 +92,28 @@ def test_something_that_is_not_a_joint_state_is_ignored():
     rig = Rig()
     rig.cache.update(object())
     assert len(rig.reports) == 1 and "unusable message" in rig.reports[0]
+
+
+def test_held_measurements_stay_current_until_released():
+    rig = Rig()
+    rig.cache.update(rig.message())
+    rig.cache.hold()
+    rig.now += 60.0
+    numpy.testing.assert_array_equal(rig.cache.positions(ARM), [1.5, -0.1])
+    assert rig.cache.complete(ARM)
+    rig.cache.release()
+    assert rig.cache.positions(ARM) is None, "released, the old measurements are too old"
+    assert not rig.cache.complete(ARM)
+    rig.cache.update(rig.message(positions=(1.4, 0.0)))
+    numpy.testing.assert_array_equal(rig.cache.positions(ARM), [1.4, 0.0])
+
+
+def test_complete_needs_every_joint_current_and_reports_nothing():
+    rig = Rig()
+    assert rig.cache.complete(())
+    rig.cache.update(rig.message(names=("RShoulderPitch",), positions=(1.5,)))
+    assert not rig.cache.complete(ARM)
+    assert rig.cache.complete(("RShoulderPitch",))
+    rig.now += MAX_AGE + 0.01
+    assert not rig.cache.complete(("RShoulderPitch",))
+    assert rig.reports == []

@@ -6,6 +6,9 @@ stamp, so a message that lacks some joints updates the others only. A joint's me
 MAX_AGE seconds; planning asks for whole parts and gets None when one of its joints has no current measurement,
 and then plans as without a measurement. Each kind of problem is reported once, to the `report` callable; nothing
 here ever raises into rospy's callback thread. Pure Python: the clock and the report are injected.
+
+While the robot rests the node stops listening (node/joint_state_feed.py): `hold` keeps the last measurements
+current however old they grow, until `release`.
 """
 import math
 import threading
@@ -24,6 +27,7 @@ class JointStateCache:
         self._lock = threading.Lock()
         self._joints: Dict[str, Tuple[float, float]] = {}  # name -> (position, stamp)
         self._reported = set()
+        self._held = False  # the measurements stay current: nothing moves and nothing is listened to
 
     def _report_once(self, kind: str, text: str) -> None:
         if kind not in self._reported:
@@ -67,6 +71,21 @@ class JointStateCache:
             self._report_once("missing " + ",".join(missing), "/joint_states: no measurement of %s; planning from "
                                                               "the plan instead" % ", ".join(missing))
             return None
-        if any(now - stamp > MAX_AGE for _, stamp in measured):
+        if not self._held and any(now - stamp > MAX_AGE for _, stamp in measured):
             return None
         return numpy.array([position for position, _ in measured], dtype=float)
+
+    def complete(self, joints: Sequence[str]) -> bool:
+        """True when every one of `joints` has a current measurement (reports nothing)."""
+        now = self._clock()
+        with self._lock:
+            measured = [self._joints.get(name) for name in joints]
+        return all(value is not None and (self._held or now - value[1] <= MAX_AGE) for value in measured)
+
+    def hold(self) -> None:
+        """The robot rests and /joint_states is no longer listened to: the last measurements stay current."""
+        self._held = True
+
+    def release(self) -> None:
+        """Listening again: measurements age as before (the held ones are soon too old, then replaced)."""
+        self._held = False

@@ -25,6 +25,7 @@ from cssr_system.animate_behaviour.node.events import (ControllerConnected, Disa
 from cssr_system.animate_behaviour.node.foreign_motion import GOAL
 from cssr_system.animate_behaviour.node.first_goals import PreparedEnable, prepare_enable
 from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch
+from cssr_system.animate_behaviour.node.joint_state_feed import JointStateFeed, SubscriptionSwitch
 from cssr_system.animate_behaviour.node.joint_states import JointStateCache
 from cssr_system.animate_behaviour.node.part_stream import PartStream, rehearse, action_client
 from cssr_system.animate_behaviour.node.services import ActivationServices
@@ -53,6 +54,8 @@ class AnimateBehaviour:
         # The clock the controllers execute goals on (ROS time, as Gazebo's controllers): the streams' deadlines.
         self.clock = rospy.get_time
         self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text))
+        self._joint_state_switch: Optional[SubscriptionSwitch] = None
+        self.joint_state_feed: Optional[JointStateFeed] = None
         self.status = StatusPublisher()
         self.services = ActivationServices(self.events.put, self.log)
         self.parts: Dict[str, PartStream] = {}  # by action namespace: one client each, kept for life
@@ -80,7 +83,10 @@ class AnimateBehaviour:
         self.apply_verbosity(config)
         for key, value in configuration_items(config).items():
             rospy.loginfo("%s: %-18s %s", NODE_NAME, key, value)
-        rospy.Subscriber(JOINT_STATES_TOPIC, JointState, self.joint_states.update, queue_size=1)
+        self._joint_state_switch = SubscriptionSwitch(self._subscribe_joint_states, self._subscribe_joint_states(),
+                                                      self.report_error, JOINT_STATES_TOPIC)
+        self.joint_state_feed = JointStateFeed(self.joint_states, self._joint_state_switch, rospy.logdebug)
+        self._joint_state_switch.thread.start()
         self._rehearse(config, topics)
         self._expected = (config, topics)
         self._supervisor.start()
@@ -88,6 +94,9 @@ class AnimateBehaviour:
         self._publish_status()
         self.services.advertise()
         rospy.Timer(rospy.Duration(HEARTBEAT_PERIOD), self._heartbeat)
+
+    def _subscribe_joint_states(self):
+        return rospy.Subscriber(JOINT_STATES_TOPIC, JointState, self.joint_states.update, queue_size=1)
 
     def _rehearse(self, config: Configuration, topics: Dict[str, str]) -> None:
         self.rng = make_rng(config.random_seed)
@@ -144,6 +153,7 @@ class AnimateBehaviour:
                     self._handle(event)
                 self._tick()
                 self._publish_status()
+                self._update_joint_state_feed()
                 if self.events.empty():  # nothing waits: build what the next commands need
                     for stream in self.parts.values():
                         stream.prepare()
@@ -177,8 +187,10 @@ class AnimateBehaviour:
             if stream is not None:
                 stream.goal_done(event)
         elif isinstance(event, ControllerConnected):
+            self.joint_state_feed.listen("controller %s connected" % event.action)
             self.parts[event.action].controller_connected()
         elif isinstance(event, ControllerLost):
+            self.joint_state_feed.listen("controller %s lost" % event.action)
             self.parts[event.action].controller_lost()
         elif isinstance(event, ForeignGoal):
             self.parts[event.action].foreign_motion(event.goal_id, event.caller, GOAL, event.last_point_at)
@@ -195,6 +207,20 @@ class AnimateBehaviour:
         now = self.clock()
         for base in self.bases.values():
             base.tick(now, self.log)
+
+    def _update_joint_state_feed(self) -> None:
+        """/joint_states is listened to while the joints may move (node/joint_state_feed.py)."""
+        now = self.clock()
+        busy = "enabled" if self.enabled else None
+        for stream in self._stream_snapshot():
+            if busy is not None:
+                break
+            if stream.active:
+                busy = "%s %s" % (stream.part, stream.state.value)
+            elif not stream.foreign.calm(now):
+                busy = "another node moves %s" % stream.part
+        joints = [joint for stream in self._stream_snapshot() for joint in PARTS[stream.part].joints]
+        self.joint_state_feed.update(busy, busy is None and self.joint_states.complete(joints), now)
 
     def _prepare_first_goals(self) -> None:
         if self.enabled or self._expected is None or (self._prepared is not None and self._prepared.fits(self.parts)):
