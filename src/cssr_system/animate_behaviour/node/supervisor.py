@@ -38,6 +38,10 @@ from cssr_system.pepper.joint_table import PARTS, DRIVER_JOINT_PRECISION
 HEARTBEAT_PERIOD = 10.0  # s between "running." lines on the console
 
 
+def decode_joint_state(data: bytes) -> JointState:
+    return JointState().deserialize(data)
+
+
 class AnimateBehaviour:
     """The node: configuration, service, supervisor and the streams it drives."""
 
@@ -53,7 +57,8 @@ class AnimateBehaviour:
         self._prepared: Optional[PreparedEnable] = None  # its first goals, planned while disabled
         # The clock the controllers execute goals on (ROS time, as Gazebo's controllers): the streams' deadlines.
         self.clock = rospy.get_time
-        self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text))
+        self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text),
+                                            decode_joint_state)
         self._joint_state_switch: Optional[SubscriptionSwitch] = None
         self.joint_state_feed: Optional[JointStateFeed] = None
         self.status = StatusPublisher()
@@ -96,7 +101,7 @@ class AnimateBehaviour:
         rospy.Timer(rospy.Duration(HEARTBEAT_PERIOD), self._heartbeat)
 
     def _subscribe_joint_states(self):
-        return rospy.Subscriber(JOINT_STATES_TOPIC, JointState, self.joint_states.update, queue_size=1)
+        return rospy.Subscriber(JOINT_STATES_TOPIC, rospy.AnyMsg, self.joint_states.receive, queue_size=1)
 
     def _rehearse(self, config: Configuration, topics: Dict[str, str]) -> None:
         self.rng = make_rng(config.random_seed)
