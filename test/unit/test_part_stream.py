@@ -194,6 +194,25 @@ def test_reconfiguration_while_animating_replaces_the_goal_from_where_the_contro
     assert len(rig.client.handles) == 2
 
 
+def test_a_replaced_goal_keeps_only_what_its_end_needs():
+    rig = Rig()
+    rig.enable()
+    first = rig.client.handles[0]
+    assert first.goal.trajectory.points, "sent whole"
+    rig.now += 0.5
+    rig.stream.disable(home=True)
+    home = rig.client.handles[1]
+    assert first.goal.trajectory.points == [], "the replaced goal's points are let go"
+    assert home.goal.trajectory.points, "the running goal keeps its points"
+    first.finish(GoalStatus.PREEMPTED)
+    rig.deliver()
+    assert [entry["state"] for entry in rig.log.events(contract.GOAL_FINISHED)] == ["PREEMPTED"], \
+        "its end still reaches the log"
+    rig.now += 0.1
+    positions, velocities, _ = rig.stream.current_state(rig.now)
+    assert numpy.all(numpy.isfinite(positions)), "the running goal still gives the next start"
+
+
 def test_disable_homes_then_idles_and_re_enable_animates_again():
     rig = Rig()
     rig.enable()

@@ -82,10 +82,12 @@ def goal_state_name(state: int) -> str:
 class SentGoal:
     """A goal of ours: its number, purpose, actionlib handle, and the motion the controller makes of it."""
 
-    def __init__(self, number: int, purpose: str, handle, start_state, points, start_time: float) -> None:
+    def __init__(self, number: int, purpose: str, handle, start_state, points, start_time: float,
+                 goal: Optional[FollowJointTrajectoryGoal] = None) -> None:
         self.number = number
         self.purpose = purpose  # PURPOSE_ANIMATE or PURPOSE_HOME
         self.handle = handle  # actionlib ClientGoalHandle
+        self._goal = goal  # the message sent (actionlib keeps it with the handle)
         self.start_time = start_time  # on the stream's clock
         self.end_time = start_time + points[-1].time
         self._start_state = tuple(None if vector is None else numpy.array(vector, dtype=float)
@@ -100,6 +102,15 @@ class SentGoal:
         if self._spline is None:
             self._spline = JointTrajectorySpline(*self._start_state, self._points, start_time=self.start_time)
         return self._spline
+
+    def release(self) -> None:
+        """The goal is no longer what the controller executes for us (replaced, cancelled, yielded): only its end
+        is still awaited, for the log. Its motion and the message's points (actionlib keeps the message with the
+        handle, and needs its goal id only) are let go, so that up to MAX_UNFINISHED_GOALS of them cost little."""
+        if self._goal is not None:
+            self._goal.trajectory.points = []
+            self._goal = None
+        self._start_state = self._points = self._spline = None
 
 
 def goal_message(joints, points) -> FollowJointTrajectoryGoal:
@@ -452,8 +463,10 @@ class PartStream:
                                 None if result is None else result.error_code,
                                 "" if result is None else result.error_string))
 
-        handle = self.client.send_goal(goal, transition)
-        self._sent = SentGoal(number, purpose, handle, (positions, velocities, accelerations), points, now)
+        handle = self.client.send_goal(goal, transition)  # on the wire when it returns: the message may change
+        for unfinished in self._unfinished.values():  # none of them runs for us any more
+            unfinished.release()
+        self._sent = SentGoal(number, purpose, handle, (positions, velocities, accelerations), points, now, goal)
         self._unfinished[number] = self._sent
         while len(self._unfinished) > MAX_UNFINISHED_GOALS:  # a controller that never answers
             self._unfinished.popitem(last=False)
