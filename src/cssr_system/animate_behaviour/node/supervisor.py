@@ -25,7 +25,7 @@ from cssr_system.animate_behaviour.node.events import (ControllerConnected, Disa
 from cssr_system.animate_behaviour.node.foreign_motion import GOAL
 from cssr_system.animate_behaviour.node.first_goals import PreparedEnable, prepare_enable
 from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch
-from cssr_system.animate_behaviour.node.joint_state_feed import JointStateFeed, SubscriptionSwitch
+from cssr_system.animate_behaviour.node.joint_state_feed import FeedState, JointStateFeed, SubscriptionSwitch
 from cssr_system.animate_behaviour.node.joint_states import JointStateCache
 from cssr_system.animate_behaviour.node.part_stream import PartStream, rehearse, action_client
 from cssr_system.animate_behaviour.node.services import ActivationServices
@@ -169,12 +169,14 @@ class AnimateBehaviour:
                 event.done.set()
                 self._stopped.set()
 
-    def _next_timeout(self) -> float:
+    def _next_timeout(self) -> Optional[float]:
         now = self.clock()
         deadlines = [deadline - now for deadline in (stream.next_deadline() for stream in self.parts.values())
                      if deadline is not None]
         deadlines += [deadline - now for deadline in (base.next_deadline(now) for base in self.bases.values())
                       if deadline is not None]
+        if not deadlines and not self.enabled and self.joint_state_feed.state == FeedState.RESTING:
+            return None  # at rest nothing is due until an event comes: no wake-ups while nothing moves
         return min([0.5] + [max(0.0, deadline) for deadline in deadlines])
 
     def _handle(self, event) -> None:
