@@ -63,6 +63,7 @@ log_step "demo: animateBehaviour on the simulated Pepper (master $ROS_MASTER_URI
 # Until the handler below is set, Ctrl-C is ignored here, and the processes started now inherit that:
 # the display always shows the end of the run, and roslaunch sets its own handlers.
 trap '' INT TERM
+: >"$launch_log"  # exists before the display's tail starts (the launch's own redirection opens it in the child)
 setsid roslaunch cssr_system animateBehaviourDemo.launch \
   duration:="${DEMO_DURATION:-30}" platform:="${DEMO_PLATFORM:-robot}" behaviour:="${DEMO_BEHAVIOUR:-all}" \
   gesture:="$gesture" output_dir:="$output_dir" \
