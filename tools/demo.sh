@@ -63,12 +63,12 @@ log_step "demo: animateBehaviour on the simulated Pepper (master $ROS_MASTER_URI
 # Until the handler below is set, Ctrl-C is ignored here, and the processes started now inherit that:
 # the display always shows the end of the run, and roslaunch sets its own handlers.
 trap '' INT TERM
-: >"$launch_log"  # exists before the display's tail starts (the launch's own redirection opens it in the child)
+: >"$launch_log"  # exists, empty, before the display tails it: the launch appends from its own process
 setsid roslaunch cssr_system animateBehaviourDemo.launch \
   duration:="${DEMO_DURATION:-30}" platform:="${DEMO_PLATFORM:-robot}" behaviour:="${DEMO_BEHAVIOUR:-all}" \
   gesture:="$gesture" output_dir:="$output_dir" \
   log_file:="$output_dir/animateBehaviourLogFile.log" outcome_file:="$outcome_file" \
-  </dev/null >"$launch_log" 2>&1 &
+  </dev/null >>"$launch_log" 2>&1 &
 launch_pid=$!
 
 # What you see: the lines of the demo's nodes, errors of any node, and roslaunch's own errors.
