@@ -88,28 +88,32 @@ class JointStateCache:
             for name, position in zip(names, positions):
                 self._joints[name] = (position, stamp)
 
-    def positions(self, joints: Sequence[str]) -> Optional[numpy.ndarray]:
-        """Current positions of `joints`, or None when one of them has no current measurement."""
+    def _measurements(self, joints: Sequence[str]):
+        """(now, the (position, stamp) of each of `joints` or None), once what was received is decoded."""
         self._decode_received()
         now = self._clock()
         with self._lock:
-            measured = [self._joints.get(name) for name in joints]
+            return now, [self._joints.get(name) for name in joints]
+
+    def _current(self, stamp: float, now: float) -> bool:
+        return self._held or now - stamp <= MAX_AGE
+
+    def positions(self, joints: Sequence[str]) -> Optional[numpy.ndarray]:
+        """Current positions of `joints`, or None when one of them has no current measurement."""
+        now, measured = self._measurements(joints)
         if any(value is None for value in measured):
             missing = [name for name, value in zip(joints, measured) if value is None]
             self._report_once("missing " + ",".join(missing), "/joint_states: no measurement of %s; planning from "
                                                               "the plan instead" % ", ".join(missing))
             return None
-        if not self._held and any(now - stamp > MAX_AGE for _, stamp in measured):
+        if not all(self._current(stamp, now) for _, stamp in measured):
             return None
         return numpy.array([position for position, _ in measured], dtype=float)
 
     def complete(self, joints: Sequence[str]) -> bool:
         """True when every one of `joints` has a current measurement (reports only bad messages)."""
-        self._decode_received()
-        now = self._clock()
-        with self._lock:
-            measured = [self._joints.get(name) for name in joints]
-        return all(value is not None and (self._held or now - value[1] <= MAX_AGE) for value in measured)
+        now, measured = self._measurements(joints)
+        return all(value is not None and self._current(value[1], now) for value in measured)
 
     def hold(self) -> None:
         """The robot rests and /joint_states is no longer listened to: the last measurements stay current."""

@@ -59,7 +59,6 @@ class AnimateBehaviour:
         self.clock = rospy.get_time
         self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text),
                                             decode_joint_state)
-        self._joint_state_switch: Optional[SubscriptionSwitch] = None
         self.joint_state_feed: Optional[JointStateFeed] = None
         self.status = StatusPublisher()
         self.services = ActivationServices(self.events.put, self.log)
@@ -88,10 +87,10 @@ class AnimateBehaviour:
         self.apply_verbosity(config)
         for key, value in configuration_items(config).items():
             rospy.loginfo("%s: %-18s %s", NODE_NAME, key, value)
-        self._joint_state_switch = SubscriptionSwitch(self._subscribe_joint_states, self._subscribe_joint_states(),
-                                                      self.report_error, JOINT_STATES_TOPIC)
-        self.joint_state_feed = JointStateFeed(self.joint_states, self._joint_state_switch, rospy.logdebug)
-        self._joint_state_switch.thread.start()
+        switch = SubscriptionSwitch(self._subscribe_joint_states, self._subscribe_joint_states(), self.report_error,
+                                    JOINT_STATES_TOPIC)
+        self.joint_state_feed = JointStateFeed(self.joint_states, switch, rospy.logdebug)
+        switch.thread.start()
         self._rehearse(config, topics)
         self._expected = (config, topics)
         self._supervisor.start()
@@ -218,16 +217,21 @@ class AnimateBehaviour:
     def _update_joint_state_feed(self) -> None:
         """/joint_states is listened to while the joints may move (node/joint_state_feed.py)."""
         now = self.clock()
-        busy = "enabled" if self.enabled else None
-        for stream in self._stream_snapshot():
-            if busy is not None:
-                break
+        streams = self._stream_snapshot()
+        busy = self._why_joints_may_move(streams, now)
+        measured = busy is None and self.joint_states.complete(
+            [joint for stream in streams for joint in PARTS[stream.part].joints])
+        self.joint_state_feed.update(busy, measured, now)
+
+    def _why_joints_may_move(self, streams: List[PartStream], now: float) -> Optional[str]:
+        if self.enabled:
+            return "enabled"
+        for stream in streams:
             if stream.active:
-                busy = "%s %s" % (stream.part, stream.state.value)
-            elif not stream.foreign.calm(now):
-                busy = "another node moves %s" % stream.part
-        joints = [joint for stream in self._stream_snapshot() for joint in PARTS[stream.part].joints]
-        self.joint_state_feed.update(busy, busy is None and self.joint_states.complete(joints), now)
+                return "%s %s" % (stream.part, stream.state.value)
+            if not stream.foreign.calm(now):
+                return "another node moves %s" % stream.part
+        return None
 
     def _prepare_first_goals(self) -> None:
         if self.enabled or self._expected is None or (self._prepared is not None and self._prepared.fits(self.parts)):
