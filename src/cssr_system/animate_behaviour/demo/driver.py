@@ -62,25 +62,17 @@ def say(text: str) -> None:
     print("%s: %s" % (NODE_NAME, text), flush=True)
 
 
-def subscribes(node: str, topic: str) -> bool:
-    """Whether the master lists `node` among the subscribers of `topic`."""
-    try:
-        _, subscribers, _ = rosgraph.Master(rospy.get_name()).getSystemState()
-    except Exception:  # noqa: BLE001 - the master is checked again on the next try
-        return False
-    return any(name == topic and node in nodes for name, nodes in subscribers)
-
-
-def hears_every_goal(recorder: str, node: str = "/" + contract.NODE_NAME) -> bool:
-    """Whether the master lists `recorder` among the subscribers of every goal topic `node` publishes: the node
-    sends its first goals within milliseconds of the enable, and a goal topic joined later misses them."""
+def records_the_node(recorder: str, node: str = "/" + contract.NODE_NAME) -> bool:
+    """Whether the master lists `recorder` among the subscribers of /joint_states and of every goal topic `node`
+    publishes: the node sends its first goals within milliseconds of the enable, and a goal topic joined later
+    misses them."""
     try:
         publishers, subscribers, _ = rosgraph.Master(rospy.get_name()).getSystemState()
     except Exception:  # noqa: BLE001 - the master is checked again on the next try
         return False
     goals = [topic for topic, nodes in publishers if topic.endswith("/goal") and node in nodes]
     listening = {topic for topic, nodes in subscribers if recorder in nodes}
-    return bool(goals) and all(topic in listening for topic in goals)
+    return bool(goals) and all(topic in listening for topic in goals + ["/joint_states"])
 
 
 class DemoDriver:
@@ -183,8 +175,7 @@ class DemoDriver:
                  ("the animateBehaviour node (its service %s)" % SERVICE_PATH, self._service_answers)
                  ]  # type: List[Tuple[str, Callable[[], bool]]]
         if self.recorder:
-            waits.append(("the recorder %s" % self.recorder, lambda: subscribes(self.recorder, "/joint_states")
-                          and hears_every_goal(self.recorder)))
+            waits.append(("the recorder %s" % self.recorder, lambda: records_the_node(self.recorder)))
         if self._gesture_publisher is not None:
             waits.append(("the gesture player (%s)" % PLAY_TOPIC,
                           lambda: self._gesture_publisher.get_num_connections() > 0))
