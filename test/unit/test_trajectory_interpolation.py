@@ -101,14 +101,30 @@ def test_the_start_time_shifts_the_whole_motion():
         numpy.testing.assert_allclose(ours, theirs, atol=1e-9)
 
 
-def test_sample_matches_sample_trajectory():
+@pytest.mark.parametrize("level", [0, 1, 2])
+@pytest.mark.parametrize("start_time", [0.0, 1234.5])
+def test_sample_matches_sample_trajectory(level, start_time):
+    """One time (the stop's quick path) and many times (the vectorised one) agree everywhere: before the
+    start, exactly at the start and at each knot, inside segments, at the end and after it."""
     start = polynomial_state(QUINTIC_POLYNOMIALS, 0.0)
-    spline = JointTrajectorySpline(*start, points_on(QUINTIC_POLYNOMIALS, [0.5, 1.0, 1.7], 2))
-    times = numpy.linspace(-0.5, 2.0, 26)
+    knots = [0.5, 1.0, 1.7]
+    spline = JointTrajectorySpline(*start, points_on(QUINTIC_POLYNOMIALS, knots, level), start_time=start_time)
+    times = numpy.concatenate([numpy.linspace(-0.5, 2.0, 26), [0.0], knots,
+                               [1.7 + 1e-12, 1.7 - 1e-12]]) + start_time
     batch = sample_trajectory(spline, times)
     for index, t in enumerate(times):
         for one, many in zip(spline.sample(t), batch):
+            assert one.shape == (2,)
             numpy.testing.assert_array_equal(one, many[index])
+
+
+def test_sample_without_points_holds_the_start_at_rest():
+    spline = JointTrajectorySpline([0.2, 0.3], [1.0, 1.0], None, [], start_time=5.0)
+    for t in (4.0, 5.0, 6.0):
+        positions, velocities, accelerations = spline.sample(t)
+        numpy.testing.assert_array_equal(positions, [0.2, 0.3])
+        numpy.testing.assert_array_equal(velocities, [0.0, 0.0])
+        numpy.testing.assert_array_equal(accelerations, [0.0, 0.0])
 
 
 def test_points_at_or_before_the_start_are_dropped_like_the_controller_does():
@@ -158,3 +174,18 @@ def test_coefficients_follow_ros_controllers_including_zero_durations():
                                      [1.0, 2.0, 1.5, 0.0, 0.0, 0.0])
     numpy.testing.assert_array_equal(cubic_coefficients(1.0, 2.0, 9.0, 9.0, 0.0), [1.0, 2.0, 0, 0, 0, 0])
     numpy.testing.assert_array_equal(linear_coefficients(1.0, 9.0, 0.0), [1.0, 0.0, 0, 0, 0, 0])
+
+
+def test_segments_computed_together_equal_segments_computed_one_by_one():
+    start = polynomial_state(QUINTIC_POLYNOMIALS, 0.0)
+    points = points_on(QUINTIC_POLYNOMIALS, [0.5, 1.0, 1.7], 2) + [TrajectoryPoint(2.5, (0.1, 0.2), None, None)]
+    one_by_one = JointTrajectorySpline(*start, points)
+    together = JointTrajectorySpline(*start, points)
+    together.compute_segments()
+    assert together.segment_kinds == (QUINTIC, QUINTIC, QUINTIC, LINEAR)
+    for segment in range(3):
+        assert together._segment_coefficients[segment] is not None, "computed before any sample"
+    assert together._segment_coefficients[3] is None, "a segment of another kind is left to its first sample"
+    times = numpy.linspace(-0.2, 2.7, 59)
+    for ours, theirs in zip(sample_trajectory(together, times), sample_trajectory(one_by_one, times)):
+        numpy.testing.assert_allclose(ours, theirs, rtol=0, atol=1e-15)
