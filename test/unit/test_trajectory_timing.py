@@ -4,12 +4,14 @@ Every property is checked on the interpolation joint_trajectory_controller perfo
 (trajectory_interpolation), sampled densely, not on the numbers time_trajectory returns.
 """
 import time
+from unittest import mock
 
 import numpy
 import pytest
 from hypothesis import given, settings, strategies as st
 from conftest import ROBOT_PARTS, default_configuration
 
+from cssr_system.animate_behaviour.motion import trajectory_timing
 from cssr_system.animate_behaviour.motion.trajectory_timing import (TimedTrajectory, speed_caps, spline_of,
                                                                     time_trajectory, to_points)
 from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng, random_waypoints
@@ -370,3 +372,34 @@ def test_a_return_home_from_a_moving_joint_brakes_inside_its_band():
             assert home.times[-1] <= 2.0
             assert numpy.all(numpy.abs(velocities) <= speed_caps(motion.joints) * (1 + 1e-9))
     assert worst_outside <= 1e-6, "a return home left its band by {} rad".format(worst_outside)
+
+
+@settings(max_examples=150, deadline=None)
+@given(data=st.data(), part=st.sampled_from(ROBOT_PARTS), gesture_duration=st.sampled_from([0.05, 0.5, 1.0]),
+       bounded=st.booleans())
+def test_a_single_waypoint_is_timed_as_the_rounds_would(data, part, gesture_duration, bounded):
+    """The quick path of a single waypoint (every stop plans one per part) gives exactly what the general
+    rounds give, from starts at rest, moving, accelerating, inside and outside the band."""
+    joints = PARTS[part].joints
+    motion = {m.part: m for m in animated_parts(default_configuration(), ROBOT_PARTS)}[part]
+    lower = numpy.array([b.lower for b in motion.bounds])
+    upper = numpy.array([b.upper for b in motion.bounds])
+    caps = speed_caps(joints)
+    unit = st.floats(-1.0, 1.0)
+    draw = lambda: numpy.array([data.draw(unit) for _ in joints])  # noqa: E731
+    limits_low = numpy.array([JOINTS[name].lower for name in joints])
+    limits_high = numpy.array([JOINTS[name].upper for name in joints])
+    start = limits_low + (limits_high - limits_low) * (draw() + 1.0) / 2.0
+    velocity = draw() * caps * data.draw(st.sampled_from([0.0, 0.5, 1.2]))
+    acceleration = draw() * caps * data.draw(st.sampled_from([0.0, 2.0, 10.0]))
+    target = numpy.array([b.centre for b in motion.bounds])[None, :]
+    bounds = (lower, upper) if bounded else None
+    quick = time_trajectory(target, joints, start, velocity, gesture_duration, start_accelerations=acceleration,
+                            position_bounds=bounds)
+    by_rounds = trajectory_timing._time_by_rounds
+    with mock.patch.object(trajectory_timing, "_time_single_waypoint",
+                           lambda first, waypoints, guess: by_rounds(first, waypoints, numpy.array([guess]))):
+        rounds = time_trajectory(target, joints, start, velocity, gesture_duration,
+                                 start_accelerations=acceleration, position_bounds=bounds)
+    for ours, theirs in zip(quick, rounds):
+        numpy.testing.assert_array_equal(ours, theirs)

@@ -316,14 +316,22 @@ def time_trajectory(waypoints, joint_names: Sequence[str], start_positions, star
 
     first = _FirstSegment(start, start_velocity, start_acceleration, caps, lower, upper, at_rest,
                           float(gesture_duration))
-    knots = numpy.vstack([start, waypoints])
     durations = numpy.full(count, float(gesture_duration))
     # First guess of the first segment: a rest-to-rest quintic peaks at 1.875 times its mean speed.
     first_step = numpy.abs(waypoints[0] - start)
     durations[0] = max(gesture_duration, 1.9 * float(numpy.max(first_step / caps)))
+    if count == 1:
+        return _time_single_waypoint(first, waypoints, float(durations[0]))
+    return _time_by_rounds(first, waypoints, durations)
+
+
+def _time_by_rounds(first: _FirstSegment, waypoints, durations) -> TimedTrajectory:
+    """time_trajectory's rounds, from the first guess of the durations."""
+    knots = numpy.vstack([first.start, waypoints])
+    caps, at_rest = first.caps, first.at_rest
 
     def derivatives():
-        return _knot_derivatives(knots, durations, start_velocity, start_acceleration, at_rest)
+        return _knot_derivatives(knots, durations, first.start_velocity, first.start_acceleration, at_rest)
 
     def between_waypoints_excess(velocities, accelerations):
         excess = _segment_speed_excess(knots, velocities, accelerations, durations, caps)[1:]
@@ -372,6 +380,20 @@ def time_trajectory(waypoints, joint_names: Sequence[str], start_positions, star
 
     return TimedTrajectory(numpy.cumsum(durations), waypoints.copy(), velocities[1:].copy(),
                            accelerations[1:].copy())
+
+
+def _time_single_waypoint(first: _FirstSegment, waypoints, guess: float) -> TimedTrajectory:
+    """What the rounds of time_trajectory come to for one waypoint (a return to the centre), in one or two
+    gradings instead of two rounds of them: the waypoint is reached at rest whatever the duration, so nothing else
+    depends on it. The first guess where it meets everything, else the first segment's search (the rounds keep
+    the guess only while it meets everything, and end with the search)."""
+    end = waypoints[0]
+    zeros = numpy.zeros_like(end)
+    duration = guess
+    if int(_first_segment_grades(first, end, zeros, zeros, [guess])[0][0]) != 0:
+        duration, _ = _first_segment_duration(first, end, zeros, zeros)
+    zero_row = numpy.zeros((1, end.size))
+    return TimedTrajectory(numpy.array([duration]), waypoints.copy(), zero_row, zero_row.copy())
 
 
 def _stop_and_go(first, knots, velocities, accelerations, durations, first_grade, must):
