@@ -202,6 +202,8 @@ def test_a_replaced_goal_keeps_only_what_its_end_needs():
     rig.now += 0.5
     rig.stream.disable(home=True)
     home = rig.client.handles[1]
+    assert first.goal.trajectory.points, "let go after the stop, not while other parts wait for theirs"
+    rig.stream.prepare()  # what the supervisor does once no event waits
     assert first.goal.trajectory.points == [], "the replaced goal's points are let go"
     assert home.goal.trajectory.points, "the running goal keeps its points"
     first.finish(GoalStatus.PREEMPTED)
@@ -444,3 +446,24 @@ def test_a_continuous_style_replaces_each_goal_before_it_ends():
     assert rig.stream.state == PartState.ANIMATING and len(rig.client.handles) == 2
     rig.stream.disable(home=True)
     assert rig.stream.next_deadline() != pytest.approx(rig.goal_end_time() - CONTINUATION_LEAD)
+
+
+def test_a_stop_planned_ahead_sends_what_disable_would_plan():
+    """The supervisor plans every part's return goal before the first one leaves (plan_stop), then sends each."""
+    planned_rig, direct_rig = Rig(), Rig()
+    for rig in (planned_rig, direct_rig):
+        rig.enable()
+        rig.now += 0.7
+    planned = planned_rig.stream.plan_stop(home=True)
+    assert len(planned_rig.client.handles) == 1 and planned_rig.stream.state == PartState.ANIMATING, \
+        "planning sends nothing and changes nothing"
+    planned_rig.stream.disable(home=True, planned=planned)
+    direct_rig.stream.disable(home=True)
+    sent, direct = (rig.client.handles[-1].goal.trajectory.points for rig in (planned_rig, direct_rig))
+    assert planned_rig.stream.state == PartState.HOMING
+    assert [(p.positions, p.velocities, p.time_from_start) for p in sent] == \
+        [(p.positions, p.velocities, p.time_from_start) for p in direct]
+    assert planned_rig.log.events(contract.GOAL_SENT)[-1]["purpose"] == contract.PURPOSE_HOME
+    assert Rig().stream.plan_stop(home=True) is None, "an idle part returns nowhere"
+    assert planned_rig.stream.plan_stop(home=True) is None, "nor does one already returning"
+    assert direct_rig.stream.plan_stop(home=False) is None

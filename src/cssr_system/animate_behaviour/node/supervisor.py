@@ -288,8 +288,13 @@ class AnimateBehaviour:
         if self.active_base is not None:  # first: a streamed turn ends with one zero Twist, sent at once
             self.active_base.stop(home, self.clock(), self.log)
             self.active_base = None
-        for stream in list(self.parts.values()):
-            stream.disable(home)
+        streams = list(self.parts.values())
+        # Every part's return goal is planned before the first one leaves: once a goal is on the wire, the
+        # controller's replies (status, the replaced goal's result) come in, and their threads would take turns
+        # with the planning of the other parts.
+        planned = [stream.plan_stop(home) for stream in streams]
+        for stream, goal in zip(streams, planned):
+            stream.disable(home, goal)
         self.enabled = False
         return True
 
