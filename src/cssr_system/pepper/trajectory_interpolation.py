@@ -166,9 +166,11 @@ class JointTrajectorySpline:
                        numpy.zeros(joints) if v0 is None else v0,
                        numpy.zeros(joints) if a0 is None else a0)
         # Segment i runs from self._states[i] to self._states[i + 1]. Its polynomial is computed
-        # when first sampled: a goal is often sampled at one instant only, and 100 quintics cost.
+        # when first sampled (a goal is often sampled at one instant only), or with every other
+        # quintic by compute_segments.
         self._states = [start_state] + states
         self._segment_coefficients: List[Optional[numpy.ndarray]] = [None] * len(states)
+        self._segments_computed = False  # every quintic segment's polynomial is known
         self._segment_start_list = [state[0] for state in self._states[:-1]]
         self.segment_start_times = numpy.array(self._segment_start_list, dtype=float)
         self.segment_durations = numpy.array(
@@ -198,16 +200,20 @@ class JointTrajectorySpline:
 
     def compute_segments(self) -> None:
         """Computes the polynomial of every quintic segment not computed yet in one vectorised call (a hundred
-        calls of one segment each cost ~25 times as much), so that a later sample only evaluates one."""
+        calls of one segment each cost ~25 times as much), so that a later sample only evaluates one. Called
+        again, it returns at once."""
+        if self._segments_computed:
+            return
+        self._segments_computed = True
         missing = [index for index, kind in enumerate(self.segment_kinds)
                    if kind == QUINTIC and self._segment_coefficients[index] is None]
         if not missing:
             return
         begins = [self._states[index] for index in missing]
         ends = [self._states[index + 1] for index in missing]
-        durations = numpy.array([end[0] - begin[0] for begin, end in zip(begins, ends)])
         computed = quintic_coefficients(_stacked(begins, 1), _stacked(begins, 2), _stacked(begins, 3),
-                                        _stacked(ends, 1), _stacked(ends, 2), _stacked(ends, 3), durations[:, None])
+                                        _stacked(ends, 1), _stacked(ends, 2), _stacked(ends, 3),
+                                        self.segment_durations[missing][:, None])
         for index, coefficients in zip(missing, computed):
             self._segment_coefficients[index] = coefficients
 
