@@ -108,5 +108,10 @@ class SubscriptionSwitch:
             return False
 
     @property
+    def subscription(self):
+        """The current subscription, or None."""
+        return self._subscription
+
+    @property
     def subscribed(self) -> bool:
         return self._subscription is not None

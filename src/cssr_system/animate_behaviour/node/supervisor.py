@@ -25,8 +25,10 @@ from cssr_system.animate_behaviour.node.events import (ControllerConnected, Disa
 from cssr_system.animate_behaviour.node.foreign_motion import GOAL
 from cssr_system.animate_behaviour.node.first_goals import PreparedEnable, prepare_enable
 from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch
+from cssr_system.animate_behaviour.node.joint_state_batching import (ReadBatching, set_low_water_mark,
+                                                                     subscription_connections)
 from cssr_system.animate_behaviour.node.joint_state_feed import FeedState, JointStateFeed, SubscriptionSwitch
-from cssr_system.animate_behaviour.node.joint_states import JointStateCache
+from cssr_system.animate_behaviour.node.joint_states import RAW_KEPT, JointStateCache
 from cssr_system.animate_behaviour.node.part_stream import PartStream, rehearse, action_client
 from cssr_system.animate_behaviour.node.services import ActivationServices
 from cssr_system.animate_behaviour.node.status import StatusPublisher
@@ -60,6 +62,9 @@ class AnimateBehaviour:
         self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text),
                                             decode_joint_state)
         self.joint_state_feed: Optional[JointStateFeed] = None
+        self._joint_state_switch: Optional[SubscriptionSwitch] = None
+        self._joint_state_batching = ReadBatching(
+            set_low_water_mark, lambda text: rospy.logdebug("%s: %s: %s.", NODE_NAME, JOINT_STATES_TOPIC, text))
         self.status = StatusPublisher()
         self.services = ActivationServices(self.events.put, self.log)
         self.parts: Dict[str, PartStream] = {}  # by action namespace: one client each, kept for life
@@ -90,6 +95,7 @@ class AnimateBehaviour:
         switch = SubscriptionSwitch(self._subscribe_joint_states, self._subscribe_joint_states(), self.report_error,
                                     JOINT_STATES_TOPIC)
         self.joint_state_feed = JointStateFeed(self.joint_states, switch, rospy.logdebug)
+        self._joint_state_switch = switch
         switch.thread.start()
         self._rehearse(config, topics)
         self._expected = (config, topics)
@@ -100,7 +106,8 @@ class AnimateBehaviour:
         rospy.Timer(rospy.Duration(HEARTBEAT_PERIOD), self._heartbeat)
 
     def _subscribe_joint_states(self):
-        return rospy.Subscriber(JOINT_STATES_TOPIC, rospy.AnyMsg, self.joint_states.receive, queue_size=1)
+        # rospy hands over every message of a batched read (up to the cache's), so its counts are the messages'.
+        return rospy.Subscriber(JOINT_STATES_TOPIC, rospy.AnyMsg, self.joint_states.receive, queue_size=RAW_KEPT)
 
     def _rehearse(self, config: Configuration, topics: Dict[str, str]) -> None:
         self.rng = make_rng(config.random_seed)
@@ -222,6 +229,7 @@ class AnimateBehaviour:
         measured = busy is None and self.joint_states.complete(
             [joint for stream in streams for joint in PARTS[stream.part].joints])
         self.joint_state_feed.update(busy, measured, now)
+        self._joint_state_batching.update(subscription_connections(self._joint_state_switch.subscription), now)
 
     def _why_joints_may_move(self, streams: List[PartStream], now: float) -> Optional[str]:
         if self.enabled:
