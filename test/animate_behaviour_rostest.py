@@ -392,17 +392,17 @@ class AnimateBehaviourProcessTest(unittest.TestCase):
         self.assertIn("selectedRange", errors)
         self.assertIn("numPoints", errors, "every problem is reported")
 
-    def test_signals_and_missing_controller(self):
+    def test_signals_ros_shutdown_and_missing_controller(self):
         # In its own namespace with the simulator platform, on a master where the simulated
-        # Pepper serves only one platform: one of the two runs has controllers missing.
+        # Pepper serves only one platform: one of the runs has controllers missing.
         namespace = "/second"
         service = namespace + "/animateBehaviour/setActivation"
-        runs = (("robot", signal.SIGINT, "true"), ("simulator", signal.SIGTERM, "false"))
-        for platform, stop_signal, verbose in runs:
-            with self.subTest(platform=platform, signal=stop_signal, verbose=verbose):
+        runs = (("robot", "SIGINT", "true"), ("simulator", "SIGTERM", "false"), ("robot", "ROS shutdown", "false"))
+        for platform, stop, verbose in runs:
+            with self.subTest(platform=platform, stop=stop, verbose=verbose):
+                log_file = tempfile.mktemp(suffix=".log")
                 process = self.start_node(namespace, "_platform:=" + platform, "_behaviour:=body",
-                                          "_verboseMode:=" + verbose,
-                                          "_logFile:=" + tempfile.mktemp(suffix=".log"))
+                                          "_verboseMode:=" + verbose, "_logFile:=" + log_file)
                 try:
                     rospy.wait_for_service(service, timeout=30)
                     call = rospy.ServiceProxy(service, setActivation)
@@ -416,7 +416,11 @@ class AnimateBehaviourProcessTest(unittest.TestCase):
                     self.assertEqual(call("enabled").success, REPLY_SUCCESS)
                     time.sleep(0.5)
                     sent = time.monotonic()
-                    process.send_signal(stop_signal)
+                    if stop == "ROS shutdown":  # rospy's shutdown hook, as `rosnode kill` asks for
+                        subprocess.run(["rosnode", "kill", namespace + "/" + NODE_NAME], stdout=subprocess.DEVNULL,
+                                       stderr=subprocess.DEVNULL, timeout=20)
+                    else:
+                        process.send_signal(getattr(signal, stop))
                     process.wait(timeout=5)
                     self.assertLess(time.monotonic() - sent, 1.5, "exit within about 1 s")
                     self.assertEqual(process.returncode, 0)
@@ -427,6 +431,9 @@ class AnimateBehaviourProcessTest(unittest.TestCase):
                 # verboseMode switches the node's logger to debug level.
                 self.assertEqual("[DEBUG]" in output + errors, verbose == "true",
                                  "debug lines with verboseMode {}".format(verbose))
+                stopped = [entry for entry in read_log(log_file) if entry.event == contract.NODE_STOPPED]
+                self.assertEqual([entry.fields["reason"] for entry in stopped], [stop], "stopped once, for the cause")
+                self.assertNotIn("Traceback", errors)
 
 
 class EnableDisableCyclesTest(unittest.TestCase):

@@ -12,7 +12,7 @@ import signal
 import sys
 import threading
 import time
-from typing import List, Optional
+from typing import Callable, List, Optional
 
 import rospy
 
@@ -22,13 +22,13 @@ from cssr_system.animate_behaviour.contract import NODE_NAME
 from cssr_system.animate_behaviour.node.parameters import (config_file_parameter, load_node_configuration,
                                                            parameter_overrides)
 from cssr_system.animate_behaviour.node.supervisor import AnimateBehaviour
+from cssr_system.animate_behaviour.node.wakeup import Wakeup
 
 SHUTDOWN_FLUSH_TIME = 0.3  # s at most for the last messages (cancels, home goals, a zero Twist) to leave
 TEARDOWN_TIME = 0.1  # s at most for rospy's teardown (unregistering from the master), once the robot is stopped
-# s between checks for a stop request and that the supervisor still runs. Python runs signal handlers in the main
-# thread; when the kernel hands a signal to another of rospy's threads, the main thread sees it only when its wait
-# ends, so this bounds the time from a signal to the stop.
-ALIVE_CHECK_PERIOD = 0.1
+# s between checks that the supervisor still runs and rospy has not shut down. A signal, a stop request and the
+# supervisor's end wake the main thread at once (node/wakeup.py): this only bounds what nothing announces.
+ALIVE_CHECK_PERIOD = 1.0
 
 
 def wait_for_outgoing_messages(timeout: float) -> None:
@@ -55,8 +55,9 @@ def print_banner(version: str) -> None:
 class Stopper:
     """Stops the robot once, whoever asks first: a signal, rospy's shutdown hook, or the main loop."""
 
-    def __init__(self, node: AnimateBehaviour) -> None:
+    def __init__(self, node: AnimateBehaviour, wake: Callable[[], None]) -> None:
         self._node = node
+        self._wake = wake  # the main thread's
         self._lock = threading.Lock()
         self.reason = ""
         self.requested = threading.Event()
@@ -64,6 +65,7 @@ class Stopper:
     def request(self, reason: str) -> None:
         self.reason = self.reason or reason
         self.requested.set()
+        self._wake()
 
     def stop(self, reason: str) -> None:
         with self._lock:
@@ -74,6 +76,13 @@ class Stopper:
             self._node.services.withdraw()
             wait_for_outgoing_messages(SHUTDOWN_FLUSH_TIME)
             self._node.log.write(contract.NODE_STOPPED, reason=self.reason)
+
+
+def on_ros_shutdown(stopper: Stopper) -> None:
+    """rospy's shutdown hook: the robot is stopped here, and the main loop told (rospy reports the shutdown only
+    once its hooks have run)."""
+    stopper.request("ROS shutdown")
+    stopper.stop("ROS shutdown")
 
 
 def main(argv: Optional[List[str]] = None) -> int:
@@ -98,18 +107,22 @@ def main(argv: Optional[List[str]] = None) -> int:
                        problems=list(error.problems))
         rospy.signal_shutdown("invalid configuration")
         return 1
-    stopper = Stopper(node)
+    wakeup = Wakeup()
+    wakeup.receive_signals()
+    stopper = Stopper(node, wakeup.wake)
     signal.signal(signal.SIGINT, lambda number, frame: stopper.request("SIGINT"))
     signal.signal(signal.SIGTERM, lambda number, frame: stopper.request("SIGTERM"))
-    rospy.on_shutdown(lambda: stopper.stop("ROS shutdown"))  # runs before rospy closes the publishers
+    rospy.on_shutdown(lambda: on_ros_shutdown(stopper))  # runs before rospy closes the publishers
+    node.on_supervisor_end = wakeup.wake
     node.start(config_file, config, topics)
     # What start-up made (rospy, numpy, the messages' classes) lives as long as the node: out of the collector's
     # sight, a full collection no longer walks it, and no command waits for one.
     gc.freeze()
 
     status = 0
-    while not stopper.requested.wait(ALIVE_CHECK_PERIOD) and not rospy.is_shutdown():
-        if not node.supervisor_alive():
+    while not stopper.requested.is_set() and not rospy.is_shutdown():
+        wakeup.wait(ALIVE_CHECK_PERIOD)
+        if not stopper.requested.is_set() and not node.stopped and not node.supervisor_alive():
             print("{}: the supervisor thread has ended; stopping the robot and exiting.".format(NODE_NAME),
                   file=sys.stderr, flush=True)
             node.stop_without_supervisor()

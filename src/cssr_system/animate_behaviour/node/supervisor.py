@@ -6,7 +6,7 @@ import logging
 import os
 import queue
 import threading
-from typing import Dict, List, Optional
+from typing import Callable, Dict, List, Optional
 
 import rospy
 from sensor_msgs.msg import JointState
@@ -72,7 +72,8 @@ class AnimateBehaviour:
         self.bases: Dict[str, BaseStream] = {}
         self.active_base: Optional[BaseStream] = None
         self._stopped = threading.Event()
-        self._supervisor = threading.Thread(target=self._run, name="supervisor", daemon=True)
+        self._supervisor = threading.Thread(target=self._supervise, name="supervisor", daemon=True)
+        self.on_supervisor_end: Callable[[], None] = lambda: None  # main's wake-up: the thread has ended
         self._watcher = ControllerWatcher(self._stream_snapshot, self.events.put, self.log, self._stopped,
                                           self.report_error)
         self.watch = ForeignCommandWatch(rospy.get_caller_id(), self.events.put, self.clock, self.report_error,
@@ -152,6 +153,12 @@ class AnimateBehaviour:
                 self.report_error(WHEELS_KEY, error)
 
     # -- supervisor thread: the only owner of the motion state -----------------------------------
+    def _supervise(self) -> None:
+        try:
+            self._run()
+        finally:
+            self.on_supervisor_end()
+
     def _run(self) -> None:
         while not self._stopped.is_set():
             timeout = self._next_timeout()
