@@ -57,6 +57,7 @@ class AnimateBehaviour:
         self.rng = None
         self._expected: Optional[tuple] = None  # (configuration, topics) the next enable is expected to bring
         self._prepared: Optional[PreparedEnable] = None  # its first goals, planned while disabled
+        self._band_warnings: List[str] = []  # the robot driver's dead band: what the console last said
         # The clock the controllers execute goals on (ROS time, as Gazebo's controllers): the streams' deadlines.
         self.clock = rospy.get_time
         self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text),
@@ -291,9 +292,12 @@ class AnimateBehaviour:
                        platform=config.platform, parts=sorted(motions), wheels=wheels,
                        reconfigured=reconfigured)
         rospy.loginfo("%s: animating %s.", NODE_NAME, ", ".join(sorted(motions) + ([WHEELS_KEY] if wheels else [])))
-        if config.platform == "robot":
-            for line in narrow_bands(list(motions.values()), DRIVER_JOINT_PRECISION):
+        # Once per configuration, not at every enable: the same lines again and again say nothing new.
+        warnings = narrow_bands(list(motions.values()), DRIVER_JOINT_PRECISION) if config.platform == "robot" else []
+        if warnings != self._band_warnings:
+            for line in warnings:
                 rospy.logwarn("%s: %s.", NODE_NAME, line)
+            self._band_warnings = warnings
 
     def _disable(self) -> bool:
         """Stops every part and the base; False when the node was not enabled."""
