@@ -4,13 +4,19 @@ While the node listens, /joint_states comes 50 times a second and rospy wakes a 
 largest share of the node's CPU while it animates, for measurements it plans from once every few seconds per part.
 A TCP socket's receive low-water mark (SO_RCVLOWAT) lets that thread sleep until so many bytes have come. Set to
 the bytes of the whole messages a connection brings in BATCH_PERIOD, the thread wakes once a period and rospy
-reads those messages together. The latest measurement is then up to BATCH_PERIOD old instead of one message
-period; the node plans from measurements where nothing of its own moves the joints, and trusts one for 1 s.
+reads those messages together. The latest measurement is then up to BATCH_PERIOD old (now and then two, below)
+instead of one message period; the node plans from measurements where nothing of its own moves the joints, and
+trusts one for 1 s.
+
+Linux wakes a reader blocked in `recv` only once the bytes still waiting in the socket reach the mark. rospy reads
+again as soon as it has handed a batch over, so the next read nearly always begins with nothing waiting and
+returns at the mark. If a message came meanwhile, the read takes it and then waits for a whole mark more: that
+batch is up to two periods long.
 
 A connection's message rate and size are measured from rospy's own counts (bytes and messages received) over
 RATE_WINDOW seconds, and again every RATE_WINDOW, so a publisher that slows down is soon read one message at a
-time again; one that sends fewer than two messages a period always is. A publisher that stops leaves at most one
-period's messages unread, which would be too old to plan from within a second anyway.
+time again; one that sends fewer than two messages a period always is. A publisher that stops leaves at most two
+periods' messages unread, which would be too old to plan from within a second anyway.
 
 `ReadBatching` is pure: the connections and the setting of a socket's mark are injected. `set_low_water_mark` and
 `subscription_connections` are what the node injects: a rospy connection's socket option, and a subscription's
