@@ -340,8 +340,9 @@ class AnimateBehaviourTest(unittest.TestCase):
         wakes = [at for previous, at in zip(received, received[1:]) if at - previous > 0.005]
         self.assertGreater(len(received), 80, "every message of 2 s at 50 Hz is handed over")
         self.assertLess(len(wakes), 40, "the reader wakes about once a batch, not at each message")
-        self.assertLess(max(later - earlier for earlier, later in zip(received, received[1:])), 2.5 * BATCH_PERIOD,
-                        "the latest measurement is never more than about one batch old")
+        # Now and then a batch lasts two periods (node/joint_state_batching.py); the rest is a loaded machine's margin.
+        self.assertLess(max(later - earlier for earlier, later in zip(received, received[1:])), 4 * BATCH_PERIOD,
+                        "the latest measurement is never more than about two batches old")
 
     def test_joints_move_and_stay_in_bounds(self):
         seen = {}
