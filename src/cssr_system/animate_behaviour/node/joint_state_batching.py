@@ -52,10 +52,14 @@ class _Counts:
     __slots__ = ("since", "received_bytes", "received_messages", "mark")
 
     def __init__(self, since: float, received_bytes: int, received_messages: int, mark: int) -> None:
+        self.mark = mark
+        self.restart(since, received_bytes, received_messages)
+
+    def restart(self, since: float, received_bytes: int, received_messages: int) -> None:
+        """The next rate is measured from these counts, taken at `since`."""
         self.since = since
         self.received_bytes = received_bytes
         self.received_messages = received_messages
-        self.mark = mark
 
 
 class ReadBatching:
@@ -87,13 +91,13 @@ class ReadBatching:
                 continue
             seconds = now - counts.since
             if seconds < 0.0:  # a clock set back: measure again
-                counts.since, counts.received_bytes, counts.received_messages = now, received_bytes, received_messages
+                counts.restart(now, received_bytes, received_messages)
                 continue
             if seconds < self._window or counts.mark is None:
                 continue
             new_bytes = received_bytes - counts.received_bytes
             new_messages = received_messages - counts.received_messages
-            counts.since, counts.received_bytes, counts.received_messages = now, received_bytes, received_messages
+            counts.restart(now, received_bytes, received_messages)
             mark = low_water_mark(new_bytes, new_messages, seconds, self._period)
             if mark != counts.mark:
                 batch = messages_per_period(new_messages, seconds, self._period) if mark > 1 else 1
