@@ -7,7 +7,7 @@ from cssr_system.animate_behaviour.motion.breathing import CONTINUATION_LEAD, Br
 from cssr_system.animate_behaviour.motion.styles import MotionStyle
 from cssr_system.animate_behaviour.motion.trajectory_timing import speed_caps, to_points
 from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng, narrow_bands
-from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, PARTS
+from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, JOINTS, PARTS
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
 
 BREATHING = default_configuration(motion_style="breathing", random_seed=5)
@@ -132,3 +132,23 @@ def test_the_robot_driver_dead_band_warning_names_the_narrow_joints():
     assert [line.split()[0] for line in lines] == ["HipRoll", "KneePitch"]
     wide = default_configuration(leg_maximum_range=(0.3, 0.3, 0.3))
     assert narrow_bands(list(motions(wide).values()), DRIVER_JOINT_PRECISION) == []
+
+
+@pytest.mark.parametrize("offset", [0.0, 0.15])
+def test_the_first_goal_accelerates_no_more_than_the_style(offset):
+    """After an enable (at rest at the centre) or a yield (at rest wherever another node left the part), the first
+    goal eases in: its accelerations stay within the most the style itself ever accelerates."""
+    for part in ("RArm", "LHand", "Leg"):
+        joints = PARTS[part].joints
+        start = numpy.array(PARTS[part].centre) + offset * numpy.resize([1.0, -1.0], len(joints))
+        start = numpy.clip(start, [JOINTS[name].lower for name in joints], [JOINTS[name].upper for name in joints])
+        times, _, _, accelerations = run(seconds=12.0, parts=(part,), start=start)[part]
+        planner = MotionStyle(BREATHING, make_rng(5)).planner(motions()[part])
+        first = planner(0.0, start, numpy.zeros(len(joints)), numpy.zeros(len(joints))).times[0]
+        assert numpy.abs(accelerations[times <= first]).max() <= planner.function.peak_acceleration * 1.001, part
+
+
+def test_the_style_bound_of_acceleration_holds_over_two_minutes(two_minutes):
+    for part, (times, _, _, accelerations) in two_minutes.items():
+        bound = MotionStyle(BREATHING, make_rng(5)).planner(motions()[part]).function.peak_acceleration
+        assert numpy.abs(accelerations).max() <= bound * 1.001, part

@@ -17,7 +17,9 @@ where needed so that its speed stays under the cap (`trajectory_timing.speed_cap
 
 A goal samples q, q' and q'' exactly every POINT_SPACING seconds for GOAL_BREATHS breaths; its first point is
 far enough from the part's current state (which may be anywhere after another node's gesture) for the
-controller's quintic splice to stay under the cap. The node replaces each goal CONTINUATION_LEAD seconds
+controller's quintic splice to stay under the cap and to accelerate no harder than the style itself ever does
+(`BreathingMotion.peak_acceleration`): the first goal after an enable or a yield eases in from the measured pose
+instead of twitching. The node replaces each goal CONTINUATION_LEAD seconds
 before it ends (`BreathingPlanner.continuation_lead`), so the motion is C2 continuous and never stops.
 Pure Python and numpy.
 """
@@ -26,9 +28,11 @@ from typing import Dict, List, Tuple
 
 import numpy
 
+from cssr_system.animate_behaviour.motion.planners import Planner
 from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory, speed_caps
 from cssr_system.animate_behaviour.motion.waypoints import PartMotion
 from cssr_system.pepper.joint_table import short_name
+from cssr_system.pepper.trajectory_interpolation import quintic_coefficients
 
 POINT_SPACING = 0.2  # s between the points of a goal
 GOAL_BREATHS = 3  # breaths per goal
@@ -47,6 +51,9 @@ AMPLITUDE = {"ShoulderPitch": 1.0, "ShoulderRoll": 0.8, "HipPitch": 1.0, "HipRol
 SHIFTING = ("HipPitch", "HipRoll", "Hand")  # joints with posture shifts
 MIRRORED = ("ShoulderRoll", "ElbowRoll", "ElbowYaw", "WristYaw")  # the right side moves as the left's mirror
 SMOOTHSTEP_PEAK_SLOPE = 1.875  # the peak of d/dx of 6x^5 - 15x^4 + 10x^3
+SMOOTHSTEP_PEAK_CURVE = 10.0 / math.sqrt(3.0)  # the peak of |d2/dx2| of the same
+LONGEST_BLEND = 8.0  # s: the first point is never later than this (a part whose style barely accelerates)
+BLEND_SAMPLES = 33  # times at which a blend's acceleration is evaluated
 
 
 def _smoothstep(x: float) -> Tuple[float, float, float]:
@@ -86,12 +93,14 @@ class BreathingMotion:
         self.motion = motion
         self.frequency = breaths_per_minute / 60.0
         self._terms = []
+        peaks = []
         caps = speed_caps(motion.joints)
         for index, (bounds, moving) in enumerate(zip(motion.bounds, motion.moving)):
             name = short_name(bounds.name)
             middle, half_width = (bounds.lower + bounds.upper) / 2.0, (bounds.upper - bounds.lower) / 2.0
             if not moving or half_width <= 0.0:
                 self._terms.append((bounds.centre, 0.0, 0.0, 1.0, name))
+                peaks.append(0.0)
                 continue
             # Both sides share phases and shifts: drawn once per joint name, for whichever side comes first.
             if name not in shared:
@@ -104,7 +113,17 @@ class BreathingMotion:
                 weights[2] * 2.0 * SMOOTHSTEP_PEAK_SLOPE / SHIFT_DURATION)
             scale = min(amplitude * AMPLITUDE.get(name, 1.0), SPEED_MARGIN * caps[index] / peak_speed)
             self._terms.append((middle, half_width * scale, LAG.get(name, 0.0), sign, name))
+            peaks.append(half_width * scale * self._curvature_bound(weights))
         self._shared = shared
+        # The most any moving joint of the part accelerates in this style: a bound of every term's peak.
+        self.peak_acceleration = max(peaks, default=0.0)
+
+    def _curvature_bound(self, weights: Tuple[float, float, float]) -> float:
+        """An upper bound of |s_j''| for a joint with these weights."""
+        omega = 2 * math.pi * self.frequency
+        variation = sum(share * (2 * math.pi * f) ** 2 for share, f in zip(VARIATION_SHARES, VARIATION_FREQUENCIES))
+        return (weights[0] * omega ** 2 + weights[1] * variation
+                + weights[2] * 2.0 * SMOOTHSTEP_PEAK_CURVE / SHIFT_DURATION ** 2)
 
     @staticmethod
     def _weights(name: str) -> Tuple[float, float, float]:
@@ -142,6 +161,15 @@ class BreathingMotion:
         return numpy.array(positions), numpy.array(velocities), numpy.array(accelerations)
 
 
+def blend_acceleration(start_state, target_state, duration: float) -> float:
+    """The largest |acceleration| of the controller's quintic from one (p, v, a) state to another in `duration`."""
+    coefficients = quintic_coefficients(*start_state, *target_state, duration)
+    tau = numpy.linspace(0.0, duration, BLEND_SAMPLES)[:, None]
+    accelerations = (2 * coefficients[:, 2] + 6 * coefficients[:, 3] * tau + 12 * coefficients[:, 4] * tau ** 2
+                     + 20 * coefficients[:, 5] * tau ** 3)
+    return float(numpy.abs(accelerations).max())
+
+
 def blend_time(start: numpy.ndarray, start_velocities: numpy.ndarray, target: numpy.ndarray,
                target_velocities: numpy.ndarray, caps: numpy.ndarray) -> float:
     """A duration for the controller's quintic from a state to a point of the function that keeps every joint
@@ -152,8 +180,8 @@ def blend_time(start: numpy.ndarray, start_velocities: numpy.ndarray, target: nu
     return float(numpy.max(SMOOTHSTEP_PEAK_SLOPE * distance / room))
 
 
-class BreathingPlanner:
-    """The breathing style's `Planner` of one part (see node/part_stream.py): goals sampled from the function."""
+class BreathingPlanner(Planner):
+    """The breathing style's `Planner` of one part: goals sampled from the function."""
 
     continuation_lead = CONTINUATION_LEAD  # the node replaces each goal this long before its end
 
@@ -166,14 +194,23 @@ class BreathingPlanner:
 
     def __call__(self, now: float, positions, velocities, accelerations) -> TimedTrajectory:
         origin = self._epoch.setdefault("t", now)
-        first = POINT_SPACING
-        for _ in range(3):  # the target moves with the blend time: settle it
-            target, target_velocities, _ = self.function.sample(now - origin + first)
-            needed = blend_time(numpy.asarray(positions), numpy.asarray(velocities), target, target_velocities,
-                                self.caps)
-            first = max(POINT_SPACING, math.ceil(needed / POINT_SPACING) * POINT_SPACING)
+        start = tuple(numpy.asarray(values, dtype=float) for values in (positions, velocities, accelerations))
+        first = self._first_point_time(now - origin, start)
         count = int(round(self.goal_length / POINT_SPACING))
         times = first + POINT_SPACING * numpy.arange(count)
         samples = [self.function.sample(now - origin + time) for time in times]
         return TimedTrajectory(times, numpy.array([s[0] for s in samples]), numpy.array([s[1] for s in samples]),
                                numpy.array([s[2] for s in samples]))
+
+    def _first_point_time(self, t: float, start) -> float:
+        """When the goal reaches the function: soon enough to follow it, late enough for the quintic from `start`
+        (at style time t) to stay under the cap and to accelerate no more than the style does."""
+        first = POINT_SPACING
+        for _ in range(3):  # the target moves with the blend time: settle it
+            target, target_velocities, _ = self.function.sample(t + first)
+            needed = blend_time(start[0], start[1], target, target_velocities, self.caps)
+            first = max(POINT_SPACING, math.ceil(needed / POINT_SPACING) * POINT_SPACING)
+        limit = self.function.peak_acceleration
+        while first < LONGEST_BLEND and blend_acceleration(start, self.function.sample(t + first), first) > limit:
+            first += POINT_SPACING
+        return first
