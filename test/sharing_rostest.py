@@ -273,7 +273,7 @@ class SharingTest(unittest.TestCase):
         if disabled < foreign_end + QUIET_TIME:  # disabled while yielding: no return at all
             self.assertEqual(self.our_twists(disabled, time.monotonic()), [])
         returns = [e for e in self.log_events(contract.BASE_COMMAND, since_wall)
-                   if e.fields["purpose"] == contract.PURPOSE_RETURN]
+                   if e.fields["purpose"] == contract.PURPOSE_HOME]
         self.assertEqual(returns, [], "the return is suppressed")
 
     # -- services and status ------------------------------------------------------------------------

@@ -7,7 +7,8 @@ from types import SimpleNamespace
 import pytest
 
 from cssr_system.animate_behaviour.node import controller_watcher
-from cssr_system.animate_behaviour.node.controller_watcher import ControllerWatcher, server_ready
+from cssr_system.animate_behaviour.node.controller_watcher import ControllerWatcher
+from cssr_system.animate_behaviour.rospy_compat import server_ready
 from cssr_system.animate_behaviour.node.events import ControllerConnected, ControllerLost
 
 ACTION = "/pepper_dcm/RightArm_controller/follow_joint_trajectory"

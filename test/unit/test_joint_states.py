@@ -1,12 +1,11 @@
 """Unit tests of the measured joints (node/joint_states.py): bad /joint_states are ignored and reported once."""
-import io
 import math
 
 import genpy
 import numpy
 from sensor_msgs.msg import JointState
 
-from cssr_system.animate_behaviour.node.joint_states import MAX_AGE, RAW_KEPT, JointStateCache
+from cssr_system.animate_behaviour.node.joint_states import MAX_AGE, JointStateCache
 
 ARM = ("RShoulderPitch", "RShoulderRoll")
 
@@ -118,63 +117,3 @@ def test_complete_needs_every_joint_current_and_reports_nothing():
     rig.now += MAX_AGE + 0.01
     assert not rig.cache.complete(("RShoulderPitch",))
     assert rig.reports == []
-
-
-class Raw:
-    """What rospy.AnyMsg gives the callback: the message's bytes."""
-
-    def __init__(self, message):
-        stream = io.BytesIO()
-        message.serialize(stream)
-        self._buff = stream.getvalue()
-
-
-def decoding_rig():
-    rig = Rig()
-    rig.decoded = []
-
-    def decode(data):
-        rig.decoded.append(data)
-        return JointState().deserialize(data)
-    rig.cache = JointStateCache(lambda: rig.now, rig.reports.append, decode)
-    return rig
-
-
-def test_received_messages_are_decoded_only_when_positions_are_asked_for():
-    rig = decoding_rig()
-    for step in range(3):
-        rig.cache.receive(Raw(rig.message(positions=(1.5 + step * 0.01, -0.1))))
-    assert rig.decoded == []
-    numpy.testing.assert_allclose(rig.cache.positions(ARM), [1.52, -0.1])
-    assert len(rig.decoded) == 3
-    rig.cache.positions(ARM)
-    assert len(rig.decoded) == 3, "each message is decoded once"
-
-
-def test_only_the_latest_messages_are_kept_undecoded():
-    rig = decoding_rig()
-    for step in range(RAW_KEPT + 20):
-        rig.cache.receive(Raw(rig.message(positions=(1.0 + step * 0.01, 0.0))))
-    numpy.testing.assert_allclose(rig.cache.positions(ARM), [1.0 + (RAW_KEPT + 19) * 0.01, 0.0])
-    assert len(rig.decoded) == RAW_KEPT
-
-
-def test_a_stamp_is_judged_against_the_arrival_not_the_decoding():
-    rig = decoding_rig()
-    rig.cache.receive(Raw(rig.message()))
-    rig.now += MAX_AGE / 2  # decoded later: the stamp was current when the message came
-    assert rig.cache.complete(ARM)
-    assert rig.reports == []
-    rig.cache.receive(Raw(rig.message(stamp=rig.now - 5.0)))
-    rig.cache.positions(ARM)
-    assert len(rig.reports) == 1 and "behind" in rig.reports[0]
-
-
-def test_bytes_that_are_not_a_joint_state_are_reported_once():
-    rig = decoding_rig()
-    raw = Raw(rig.message())
-    raw._buff = raw._buff[:7]
-    rig.cache.receive(raw)
-    rig.cache.receive(raw)
-    assert rig.cache.positions(ARM) is None
-    assert len(rig.reports) == 2 and "unusable message" in rig.reports[0] and "no measurement" in rig.reports[1]

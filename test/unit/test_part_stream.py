@@ -4,15 +4,16 @@ import pytest
 from actionlib.action_client import CommState
 from actionlib_msgs.msg import GoalStatus
 from conftest import default_configuration
+from control_msgs.msg import FollowJointTrajectoryResult
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.motion.breathing import CONTINUATION_LEAD
 from cssr_system.animate_behaviour.motion.styles import MotionStyle
-from cssr_system.animate_behaviour.motion.trajectory_timing import time_trajectory
-from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng, random_waypoints
+from cssr_system.animate_behaviour.motion.planners import GOAL_TIME_TOLERANCE, SETTLE_TIME, RandomPlanner
+from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng
 from cssr_system.animate_behaviour.node.foreign_motion import RESULT_GRACE
-from cssr_system.animate_behaviour.node.part_stream import (LOST_RESULT_GRACE, RETRY_DELAY, TRANSITIONS, PartState,
-                                                            PartStream)
+from cssr_system.animate_behaviour.node.motion_stream import StreamState as PartState
+from cssr_system.animate_behaviour.node.part_stream import LOST_RESULT_GRACE, RETRY_DELAY, TRANSITIONS, PartStream
 from cssr_system.pepper.joint_table import PARTS
 
 ACTION = "/pepper_dcm/RightArm_controller/follow_joint_trajectory"
@@ -24,6 +25,7 @@ class FakeHandle:
         self.callback = callback
         self.cancelled = False
         self.status = GoalStatus.ACTIVE
+        self.result = None
 
     def cancel(self):
         self.cancelled = True
@@ -35,11 +37,13 @@ class FakeHandle:
         return self.status
 
     def get_result(self):
-        return None
+        return self.result
 
-    def finish(self, status):
-        """What actionlib does when the server reports the goal's end."""
+    def finish(self, status, error_code=None, error_string=""):
+        """What actionlib does when the server reports the goal's end (with a result when `error_code` is given)."""
         self.status = status
+        if error_code is not None:
+            self.result = FollowJointTrajectoryResult(error_code=error_code, error_string=error_string)
         self.callback(self)
 
 
@@ -82,13 +86,7 @@ class Rig:
             self.stream.controller_connected()
         config = default_configuration(random_seed=7)
         self.motion = {m.part: m for m in animated_parts(config, tuple(PARTS))}[part]
-        rng = make_rng(7)
-        joints = PARTS[part].joints
-
-        def plan(now, positions, velocities, accelerations):
-            return time_trajectory(random_waypoints(self.motion, config._replace(num_points=3), rng), joints,
-                                   positions, velocities, 1.0, start_accelerations=accelerations)
-        self.plan = plan
+        self.plan = RandomPlanner(self.motion, config._replace(num_points=3, gesture_duration=1.0), make_rng(7))
 
     def enable(self):
         self.stream.enable(self.motion, self.plan)
@@ -98,8 +96,8 @@ class Rig:
         while self.posted:
             self.stream.goal_done(self.posted.pop(0))
 
-    def finish_last(self, status):
-        self.client.handles[-1].finish(status)
+    def finish_last(self, status, error_code=None, error_string=""):
+        self.client.handles[-1].finish(status, error_code, error_string)
         self.deliver()
 
     def goal_end_time(self):
@@ -202,8 +200,6 @@ def test_a_replaced_goal_keeps_only_what_its_end_needs():
     rig.now += 0.5
     rig.stream.disable(home=True)
     home = rig.client.handles[1]
-    assert first.goal.trajectory.points, "let go after the stop, not while other parts wait for theirs"
-    rig.stream.prepare()  # what the supervisor does once no event waits
     assert first.goal.trajectory.points == [], "the replaced goal's points are let go"
     assert home.goal.trajectory.points, "the running goal keeps its points"
     first.finish(GoalStatus.PREEMPTED)
@@ -467,3 +463,94 @@ def test_a_stop_planned_ahead_sends_what_disable_would_plan():
     assert Rig().stream.plan_stop(home=True) is None, "an idle part returns nowhere"
     assert planned_rig.stream.plan_stop(home=True) is None, "nor does one already returning"
     assert direct_rig.stream.plan_stop(home=False) is None
+
+
+def last_point(handle):
+    return numpy.array(handle.goal.trajectory.points[-1].positions)
+
+
+def test_every_goal_carries_a_goal_time_tolerance_and_ends_with_a_hold():
+    rig = Rig()
+    for send in (rig.enable, lambda: rig.stream.disable(home=True)):  # an animation goal, the return to the centre
+        send()
+        rig.now += 0.7
+        goal = rig.client.handles[-1].goal
+        assert goal.goal_time_tolerance.to_sec() == pytest.approx(GOAL_TIME_TOLERANCE)
+        assert goal.goal_tolerance == [] and goal.path_tolerance == [], "the controller's own tolerances apply"
+        held, last = goal.trajectory.points[-2:]
+        assert held.positions == last.positions and not any(last.velocities) and not any(held.velocities)
+        assert (last.time_from_start - held.time_from_start).to_sec() == pytest.approx(SETTLE_TIME)
+
+
+def aborted_at_its_end(rig, measured_offset, late=0.0):
+    """The running goal ends ABORTED for its end state `late` s after its last point, the joints measured
+    `measured_offset` rad from that point."""
+    handle = rig.client.handles[-1]
+    rig.now = rig.goal_end_time() + late
+    rig.measured = last_point(handle) + measured_offset
+    rig.finish_last(GoalStatus.ABORTED, FollowJointTrajectoryResult.GOAL_TOLERANCE_VIOLATED,
+                    "RShoulderPitch goal error -0.000038")
+
+
+def test_an_abort_for_the_end_state_only_is_no_failure():
+    rig = Rig()
+    rig.enable()
+    end = rig.goal_end_time()
+    aborted_at_its_end(rig, 0.002, late=GOAL_TIME_TOLERANCE)
+    finished = rig.log.events(contract.GOAL_FINISHED)[-1]
+    assert finished["state"] == "ABORTED" and finished["reached"] is True
+    assert finished["error_string"] == "RShoulderPitch goal error -0.000038"
+    assert rig.stream.state == PartState.ANIMATING and rig.stream.retry_at is None, "no back-off"
+    assert len(rig.client.handles) == 2 and rig.warnings == [], "the next goal leaves at once"
+    assert end <= rig.now
+    rig.now += 0.7
+    rig.stream.disable(home=True)
+    aborted_at_its_end(rig, -0.001)
+    assert rig.stream.state == PartState.IDLE and rig.log.events(contract.GOAL_FINISHED)[-1]["reached"] is True
+
+
+@pytest.mark.parametrize("offset, late, error_code", [
+    (0.05, 0.5, FollowJointTrajectoryResult.GOAL_TOLERANCE_VIOLATED),  # the joints are not at the last point
+    (0.0, -1.0, FollowJointTrajectoryResult.GOAL_TOLERANCE_VIOLATED),  # the trajectory had not played out
+    (0.0, 0.5, FollowJointTrajectoryResult.PATH_TOLERANCE_VIOLATED),  # another reason
+])
+def test_other_aborts_back_off(offset, late, error_code):
+    rig = Rig()
+    rig.enable()
+    handle = rig.client.handles[-1]
+    rig.now = rig.goal_end_time() + late
+    rig.measured = last_point(handle) + offset
+    rig.finish_last(GoalStatus.ABORTED, error_code, "RShoulderPitch error")
+    assert rig.log.events(contract.GOAL_FINISHED)[-1]["reached"] is False
+    assert rig.stream.state == PartState.WAITING and rig.stream.retry_at == pytest.approx(rig.now + RETRY_DELAY)
+
+
+def test_goals_sent_before_a_simulated_clock_runs_count_from_its_start():
+    """rospy's clock reads 0 until the first /clock message: a goal sent then starts when the clock starts, however
+    late that is, and is neither called lost nor replaced before its end."""
+    rig = Rig()
+    rig.now = 0.0
+    rig.enable()
+    duration = rig.client.handles[-1].goal.trajectory.points[-1].time_from_start.to_sec()
+    rig.stream.tick()
+    assert rig.stream.next_deadline() is None, "nothing is due before the clock runs"
+    rig.now = 1.0e6  # the clock starts late, far from 0
+    rig.stream.tick()
+    assert rig.stream.next_deadline() == pytest.approx(1.0e6 + duration + LOST_RESULT_GRACE)
+    rig.now += duration + LOST_RESULT_GRACE - 0.01
+    rig.stream.tick()
+    assert len(rig.client.handles) == 1 and rig.log.events(contract.ERROR) == [], "not lost while it may run"
+    rig.finish_last(GoalStatus.SUCCEEDED, 0)
+    assert len(rig.client.handles) == 2
+
+
+def test_a_continuous_goal_sent_before_the_clock_runs_is_continued_before_its_end():
+    rig = Rig()
+    rig.now = 0.0
+    style = MotionStyle(default_configuration(motion_style="breathing", random_seed=2), make_rng(2))
+    rig.stream.enable(rig.motion, style.planner(rig.motion))
+    duration = rig.client.handles[-1].goal.trajectory.points[-1].time_from_start.to_sec()
+    rig.now = 5000.0
+    rig.stream.tick()
+    assert len(rig.client.handles) == 1, "not replaced when the clock starts"
+    assert rig.stream.next_deadline() == pytest.approx(5000.0 + duration - CONTINUATION_LEAD)

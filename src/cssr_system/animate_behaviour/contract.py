@@ -31,12 +31,11 @@ ACTIVATION_REQUEST = "activation_request"  # state (as received), reply
 BEHAVIOUR_STARTED = "behaviour_started"  # behaviour, platform, parts, wheels
 BEHAVIOUR_ENDED = "behaviour_ended"  # reason ("disabled", "shutdown", "reconfigured"), home
 # Values of the `purpose` field of goal_sent, goal_finished and base_command.
-PURPOSE_ANIMATE = "animate"  # random motion (goals and base turns)
-PURPOSE_HOME = "home"  # a part's return to its centre after disable
-PURPOSE_RETURN = "return"  # the base's turn back to its heading at enable
+PURPOSE_ANIMATE = "animate"  # the motion itself (goals and base turns)
+PURPOSE_HOME = "home"  # after a disable: a part's return to its centre, the base's turn back to its heading at enable
 
 GOAL_SENT = "goal_sent"  # part, label, action, purpose, joints, centre, lower, upper, moving, times, positions
-GOAL_FINISHED = "goal_finished"  # part, action, purpose, goal, state, error_code, error_string
+GOAL_FINISHED = "goal_finished"  # part, action, purpose, goal, state, error_code, error_string, reached
 CONTROLLER_CONNECTED = "controller_connected"  # part, action
 CONTROLLER_WAITING = "controller_waiting"  # part, action, seconds
 CONTROLLER_LOST = "controller_lost"  # part, action

@@ -15,21 +15,10 @@ import rospy
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import NODE_NAME
 from cssr_system.animate_behaviour.node.events import ControllerConnected, ControllerLost
+from cssr_system.animate_behaviour.rospy_compat import server_ready
 
 WATCH_PERIOD = 0.5  # s between checks of the controllers
 WAIT_REPORT_PERIOD = 10.0  # s between log lines about a controller that is still missing
-
-
-def server_ready(client) -> bool:
-    """actionlib's own test of ``ActionClient.wait_for_server``, done once, without waiting (so a paused
-    simulation clock cannot hold it) and without the feedback topic, which this node does not use: a status
-    message came from the server, our goal and cancel topics reach it, and its result topic reaches us."""
-    status = client.last_status_msg
-    if status is None:
-        return False
-    server = status._connection_header.get("callerid", "")
-    return (client.pub_goal.impl.has_connection(server) and client.pub_cancel.impl.has_connection(server)
-            and any(connection.callerid_pub == server for connection in client.result_sub.impl.connections))
 
 
 class ControllerWatcher:

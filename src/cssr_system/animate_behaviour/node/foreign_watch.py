@@ -17,15 +17,11 @@ from actionlib_msgs.msg import GoalStatus, GoalStatusArray
 from geometry_msgs.msg import Twist
 from trajectory_msgs.msg import JointTrajectory
 
+from cssr_system.animate_behaviour.rospy_compat import caller_of
 from cssr_system.animate_behaviour.node.events import ForeignCommand, ForeignGoal, ForeignResult, ForeignTwist
 from cssr_system.pepper.joint_table import command_topic
 
 RUNNING_STATES = (GoalStatus.PENDING, GoalStatus.ACTIVE, GoalStatus.PREEMPTING, GoalStatus.RECALLING)
-
-
-def caller_of(message) -> str:
-    """The caller id of the node that published `message` (rospy keeps its connection header)."""
-    return getattr(message, "_connection_header", {}).get("callerid", "")
 
 
 def caller_of_goal(goal_id: str) -> str:

@@ -1,4 +1,5 @@
-"""The latest measured position of every joint, from /joint_states (README: "Faults").
+"""The measured joints, from /joint_states (README: "Faults"): the latest position of every joint
+(`JointStateCache`), and whether the node listens at all (`JointStateFeed`, `SubscriptionSwitch`).
 
 A message is used only when it is sound: as many positions as names, every position finite, a stamp neither far in
 the past nor in the future of the node's clock (ROS time; a zero stamp counts as "now"). Each joint keeps its own
@@ -7,33 +8,38 @@ MAX_AGE seconds; planning asks for whole parts and gets None when one of its joi
 and then plans as without a measurement. Each kind of problem is reported once, to the `report` callable; nothing
 here ever raises into rospy's callback thread. Pure Python: the clock and the report are injected.
 
-Messages are received undecoded (`receive`, rospy's AnyMsg: the callback thread only keeps the bytes and when they
-came) and decoded when positions are asked for, the latest RAW_KEPT of them: at 50 Hz the node would otherwise
-decode 50 messages a second to use one every few seconds. A stamp is judged against the message's arrival.
+/joint_states comes 50 times a second, and each message costs rospy a thread wake-up and a decode: most of what a
+disabled node would spend. A joint moves only when its controller is told to: by a goal of ours, or by another
+node's goal or ``command`` trajectory, which the node sees on the controller's status and command topics
+(node/foreign_watch.py). So once the robot is quiet (the node disabled, every part idle, no other node's motion
+within the quiet time) and every joint has a current measurement, for REST_DELAY seconds, the feed holds the
+measurements (where the joints rest: `JointStateCache.hold` keeps them current however old they grow) and
+unsubscribes. It listens again at an enable, when another node moves a part, and when a controller comes or goes
+(a restarted controller may have moved its joints).
 
-While the robot rests the node stops listening (node/joint_state_feed.py): `hold` keeps the last measurements
-current however old they grow, until `release`.
+`JointStateCache` and `JointStateFeed` are pure (the clock, the report and the switching are injected);
+`SubscriptionSwitch` subscribes and unsubscribes on its own thread, because registering with the master may wait
+for it.
 """
-import collections
+import enum
 import math
 import threading
 from typing import Callable, Dict, Optional, Sequence, Tuple
 
 import numpy
 
+from cssr_system.animate_behaviour.contract import NODE_NAME
+
 MAX_AGE = 1.0  # s: older measurements are not trusted as the current position
 MAX_AHEAD = 1.0  # s: stamps further in the future than this are not trusted either
-# Undecoded messages kept, the latest: 0.16 s at 50 Hz, and every publisher's latest when a few publish.
-RAW_KEPT = 8
+REST_DELAY = 2.0  # s of quiet, with every joint measured, before the measurements are held: the joints settle
+RETRY_PERIOD = 1.0  # s before a failed subscription or unsubscription is tried again
 
 
 class JointStateCache:
-    def __init__(self, clock: Callable[[], float], report: Callable[[str], None],
-                 decode: Optional[Callable[[bytes], object]] = None) -> None:
+    def __init__(self, clock: Callable[[], float], report: Callable[[str], None]) -> None:
         self._clock = clock
         self._report = report
-        self._decode = decode  # bytes -> a JointState, for `receive`
-        self._raw: "collections.deque" = collections.deque(maxlen=RAW_KEPT)  # (arrival, bytes), appended atomically
         self._lock = threading.Lock()
         self._joints: Dict[str, Tuple[float, float]] = {}  # name -> (position, stamp)
         self._reported = set()
@@ -44,25 +50,8 @@ class JointStateCache:
             self._reported.add(kind)
             self._report(text)
 
-    def receive(self, message) -> None:
-        """An undecoded /joint_states message (rospy.AnyMsg, in rospy's callback thread): kept for later."""
-        self._raw.append((self._clock(), message._buff))
-
-    def _decode_received(self) -> None:
-        while True:
-            try:
-                received_at, data = self._raw.popleft()
-            except IndexError:
-                return
-            try:
-                message = self._decode(data)
-            except Exception as error:  # bytes that are not a JointState
-                self._report_once("unreadable", "/joint_states: unusable message (%s); ignored" % error)
-                continue
-            self.update(message, received_at)
-
     def update(self, message, received_at: Optional[float] = None) -> None:
-        """A decoded /joint_states message that came at `received_at` (default: now)."""
+        """A /joint_states message (rospy's callback thread) that came at `received_at` (default: now)."""
         try:
             names, positions = list(message.name), list(message.position)
             stamp = message.header.stamp.to_sec()
@@ -89,8 +78,7 @@ class JointStateCache:
                 self._joints[name] = (position, stamp)
 
     def _measurements(self, joints: Sequence[str]):
-        """(now, the (position, stamp) of each of `joints` or None), once what was received is decoded."""
-        self._decode_received()
+        """(now, the (position, stamp) of each of `joints` or None)."""
         now = self._clock()
         with self._lock:
             return now, [self._joints.get(name) for name in joints]
@@ -117,9 +105,94 @@ class JointStateCache:
 
     def hold(self) -> None:
         """The robot rests and /joint_states is no longer listened to: the last measurements stay current."""
-        self._decode_received()
         self._held = True
 
     def release(self) -> None:
         """Listening again: measurements age as before (the held ones are soon too old, then replaced)."""
         self._held = False
+
+
+class FeedState(enum.Enum):
+    LISTENING = "listening"
+    RESTING = "resting"
+
+
+class JointStateFeed:
+    def __init__(self, cache, switch: Callable[[bool], None], debug: Callable[..., None]) -> None:
+        self._cache = cache  # JointStateCache: held while resting
+        self._switch = switch  # switch(True) subscribes, switch(False) unsubscribes; never blocks
+        self._debug = debug
+        self.state = FeedState.LISTENING
+        self._quiet_since: Optional[float] = None
+
+    def transition_to(self, new_state: FeedState, why: str) -> None:
+        self._debug("%s: joint states: %s -> %s (%s).", NODE_NAME, self.state.value, new_state.value, why)
+        self.state = new_state
+
+    def update(self, busy: Optional[str], measured: bool, now: float) -> None:
+        """`busy`: why the joints may move (None: the robot is quiet); `measured`: every joint has a current
+        measurement; `now`: the node's clock."""
+        if busy is not None:
+            self.listen(busy)
+            return
+        if self.state == FeedState.RESTING:
+            return
+        if self._quiet_since is None or now < self._quiet_since:  # a clock set back starts the wait again
+            self._quiet_since = now
+        if measured and now - self._quiet_since >= REST_DELAY:
+            self._cache.hold()
+            self._switch(False)
+            self.transition_to(FeedState.RESTING, "quiet for %.1f s" % (now - self._quiet_since))
+
+    def listen(self, why: str) -> None:
+        """The joints may move (`why`): listen again, and wait for a new quiet spell before resting."""
+        self._quiet_since = None
+        if self.state == FeedState.RESTING:
+            self._switch(True)
+            self._cache.release()
+            self.transition_to(FeedState.LISTENING, why)
+
+
+class SubscriptionSwitch:
+    """Subscribes and unsubscribes on its own thread, to whatever was asked last: registering with the master
+    waits for it, and the supervisor that asks must never wait."""
+
+    def __init__(self, subscribe: Callable[[], object], subscription, report_error: Callable[[str, Exception], None],
+                 where: str) -> None:
+        self._subscribe = subscribe  # makes a subscription (an object with unregister())
+        self._subscription = subscription  # the one made at start-up
+        self._report_error = report_error
+        self._where = where
+        self._wanted = subscription is not None
+        self._lock = threading.Lock()
+        self._asked = threading.Event()
+        self.thread = threading.Thread(target=self.run, name="joint-state-switch", daemon=True)
+
+    def __call__(self, listening: bool) -> None:
+        with self._lock:
+            self._wanted = listening
+        self._asked.set()
+
+    def run(self) -> None:
+        while True:
+            self._asked.wait()
+            self._asked.clear()
+            if not self.apply():
+                self._asked.wait(RETRY_PERIOD)
+                self._asked.set()
+
+    def apply(self) -> bool:
+        """Makes the subscription what was asked last (the thread's work; callable directly); False when that
+        failed (reported)."""
+        with self._lock:
+            wanted = self._wanted
+        try:
+            if wanted and self._subscription is None:
+                self._subscription = self._subscribe()
+            elif not wanted and self._subscription is not None:
+                subscription, self._subscription = self._subscription, None
+                subscription.unregister()
+            return True
+        except Exception as error:  # the master is away, say: try again
+            self._report_error(self._where, error)
+            return False

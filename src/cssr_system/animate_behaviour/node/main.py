@@ -21,29 +21,16 @@ from cssr_system.animate_behaviour.configuration import ConfigurationError
 from cssr_system.animate_behaviour.contract import NODE_NAME
 from cssr_system.animate_behaviour.node.parameters import (config_file_parameter, load_node_configuration,
                                                            parameter_overrides)
-from cssr_system.animate_behaviour.node.supervisor import AnimateBehaviour
+from cssr_system.animate_behaviour.node.animate_behaviour_node import AnimateBehaviourNode
 from cssr_system.animate_behaviour.node.wakeup import Wakeup
 
-SHUTDOWN_FLUSH_TIME = 0.3  # s at most for the last messages (cancels, home goals, a zero Twist) to leave
+# s for the last messages (cancels, home goals, a zero Twist) to leave: rospy's writer threads send within
+# milliseconds, and there is no public way to ask whether they have.
+SHUTDOWN_FLUSH_TIME = 0.1
 TEARDOWN_TIME = 0.1  # s at most for rospy's teardown (unregistering from the master), once the robot is stopped
 # s between checks that the supervisor still runs and rospy has not shut down. A signal, a stop request and the
 # supervisor's end wake the main thread at once (node/wakeup.py): this only bounds what nothing announces.
 ALIVE_CHECK_PERIOD = 1.0
-
-
-def wait_for_outgoing_messages(timeout: float) -> None:
-    """Returns when every message published so far has left this process (rospy's per-connection queues are
-    empty), or after `timeout`."""
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        try:  # rospy's queued connections keep what is still to be written in `_queue`
-            publishers = list(rospy.topics.get_topic_manager().pubs.values())
-            if not any(getattr(connection, "_queue", None) for publisher in publishers
-                       for connection in publisher.connections):
-                return
-        except Exception:  # another rospy: fall back to waiting the whole time
-            pass
-        time.sleep(0.005)
 
 
 def print_banner(version: str) -> None:
@@ -55,7 +42,7 @@ def print_banner(version: str) -> None:
 class Stopper:
     """Stops the robot once, whoever asks first: a signal, rospy's shutdown hook, or the main loop."""
 
-    def __init__(self, node: AnimateBehaviour, wake: Callable[[], None]) -> None:
+    def __init__(self, node: AnimateBehaviourNode, wake: Callable[[], None]) -> None:
         self._node = node
         self._wake = wake  # the main thread's
         self._lock = threading.Lock()
@@ -74,7 +61,7 @@ class Stopper:
             self.reason = self.reason or reason
             self._node.request_shutdown(self.reason)
             self._node.services.withdraw()
-            wait_for_outgoing_messages(SHUTDOWN_FLUSH_TIME)
+            time.sleep(SHUTDOWN_FLUSH_TIME)
             self._node.log.write(contract.NODE_STOPPED, reason=self.reason)
 
 
@@ -90,7 +77,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     # The node handles SIGINT and SIGTERM itself: it stops the robot before rospy shuts down.
     rospy.init_node(NODE_NAME, disable_signals=True)
     try:
-        node = AnimateBehaviour()
+        node = AnimateBehaviourNode()
     except Exception as error:  # nothing moves yet: say why, once, and exit
         print("{}: cannot start: {}: {}".format(NODE_NAME, type(error).__name__, error), file=sys.stderr, flush=True)
         return 1
@@ -113,7 +100,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     signal.signal(signal.SIGINT, lambda number, frame: stopper.request("SIGINT"))
     signal.signal(signal.SIGTERM, lambda number, frame: stopper.request("SIGTERM"))
     rospy.on_shutdown(lambda: on_ros_shutdown(stopper))  # runs before rospy closes the publishers
-    node.on_supervisor_end = wakeup.wake
+    node.supervisor.on_end = wakeup.wake
     node.start(config_file, config, topics)
     # What start-up made (rospy, numpy, the messages' classes) lives as long as the node: out of the collector's
     # sight, a full collection no longer walks it, and no command waits for one.
@@ -125,7 +112,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         if not stopper.requested.is_set() and not node.stopped and not node.supervisor_alive():
             print("{}: the supervisor thread has ended; stopping the robot and exiting.".format(NODE_NAME),
                   file=sys.stderr, flush=True)
-            node.stop_without_supervisor()
+            node.supervisor.stop_without_thread()
             stopper.request("supervisor ended")
             status = 1
     stopper.stop(stopper.reason or "ROS shutdown")

@@ -1,0 +1,124 @@
+"""The animateBehaviour node's ROS side: it makes the event log, the status publisher, the services, the action
+clients, the base publisher and the subscriptions, and hands them to the supervisor (node/supervisor.py), which owns
+the motion state.
+"""
+import os
+import threading
+from typing import Dict
+
+import rospy
+from sensor_msgs.msg import JointState
+
+from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.configuration import Configuration, configuration_items
+from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC, NODE_NAME
+from cssr_system.animate_behaviour.event_log import BackgroundLog, EventLog, default_log_path
+from cssr_system.animate_behaviour.motion.styles import MotionStyle
+from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng
+from cssr_system.animate_behaviour.node.base_stream import BaseStream
+from cssr_system.animate_behaviour.node.controller_watcher import ControllerWatcher
+from cssr_system.animate_behaviour.node.events import Shutdown
+from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch
+from cssr_system.animate_behaviour.node.goals import action_client, rehearse
+from cssr_system.animate_behaviour.node.joint_states import JointStateCache, JointStateFeed, SubscriptionSwitch
+from cssr_system.animate_behaviour.node.part_stream import PartStream
+from cssr_system.animate_behaviour.node.services import ActivationServices
+from cssr_system.animate_behaviour.node.status import StatusPublisher
+from cssr_system.animate_behaviour.node.supervisor import Supervisor, apply_verbosity
+from cssr_system.animate_behaviour.topics import WHEELS_KEY
+from cssr_system.package_files import package_dir, package_version
+from cssr_system.pepper.joint_table import PARTS
+
+HEARTBEAT_PERIOD = 10.0  # s between "running." lines on the console
+JOINT_STATES_QUEUE = 1  # only the latest /joint_states message matters
+
+
+class AnimateBehaviourNode:
+    """The node: its ROS interfaces, and the supervisor that drives the streams."""
+
+    def __init__(self) -> None:
+        self.version = package_version()
+        log_file = rospy.get_param("~logFile", default_log_path(package_dir(), os.environ.get("ROS_HOME")))
+        self.log = BackgroundLog(EventLog(log_file))
+        # The clock the controllers execute goals on (ROS time, as Gazebo's controllers): the streams' deadlines.
+        self.clock = rospy.get_time
+        self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text))
+        self._switch = SubscriptionSwitch(self._subscribe_joint_states, None, self.report_error, JOINT_STATES_TOPIC)
+        self.feed = JointStateFeed(self.joint_states, self._switch, rospy.logdebug)
+        self.status = StatusPublisher()
+        self.supervisor = Supervisor(self.clock, self.log, self._make_part, self._make_base, self.status.publish,
+                                     self.joint_states, self.feed, self.report_error)
+        self.services = ActivationServices(self.supervisor.events.put, self.log)
+        self._watcher = ControllerWatcher(self.supervisor.part_streams, self.supervisor.events.put, self.log,
+                                          self.supervisor.stopped, self.report_error)
+        self.watch = ForeignCommandWatch(rospy.get_caller_id(), self.supervisor.events.put, self.clock,
+                                         self.report_error, self._watcher.status_seen)
+
+    def start(self, config_file: str, config: Configuration, topics: Dict[str, str]) -> None:
+        self.log.write(contract.CONFIGURATION_LOADED, file=config_file, items=configuration_items(config))
+        # Clients and the base publisher connect while the node is still disabled, so the first commands leave at
+        # once and none is lost to a connection not yet made.
+        for key, name in topics.items():
+            if key in PARTS:
+                self.supervisor.stream_for(key, name)
+            elif key == WHEELS_KEY:
+                self.supervisor.base_for(name)
+        apply_verbosity(config)
+        for key, value in configuration_items(config).items():
+            rospy.loginfo("%s: %-18s %s", NODE_NAME, key, value)
+        self._switch(True)
+        self._switch.apply()  # subscribed before the first enable, which plans from the measured joints
+        self._switch.thread.start()
+        self._rehearse(config, topics)
+        self.status.publish(False, self.supervisor.part_streams(), list(self.supervisor.bases.values()))
+        self.supervisor.thread.start()
+        self._watcher.thread.start()
+        self.services.advertise()
+        rospy.Timer(rospy.Duration(HEARTBEAT_PERIOD), lambda _event: rospy.loginfo("%s: running.", NODE_NAME))
+
+    def _make_part(self, part: str, action: str) -> PartStream:
+        self.watch.watch_controller(action)
+        return PartStream(part, action, action_client(action), self.clock, self.joint_states.positions,
+                          self.supervisor.events.put, self.log)
+
+    def _make_base(self, topic: str) -> BaseStream:
+        self.watch.watch_base(topic)
+        return BaseStream(topic, self.log)
+
+    def _subscribe_joint_states(self) -> rospy.Subscriber:
+        return rospy.Subscriber(JOINT_STATES_TOPIC, JointState, self.joint_states.update, queue_size=JOINT_STATES_QUEUE)
+
+    @staticmethod
+    def _rehearse(config: Configuration, topics: Dict[str, str]) -> None:
+        """Every part's goal is planned and encoded once before the first enable (goals.rehearse)."""
+        style = MotionStyle(config, make_rng(config.random_seed))
+        for motion in animated_parts(config, [key for key in topics if key in PARTS]):
+            rehearse(motion.part, style.planner(motion))
+
+    # -- stopping -----------------------------------------------------------------------------------
+    def request_shutdown(self, reason: str) -> None:
+        """Stops the robot as `disabled` does and ends the supervisor (waits at most 1 s)."""
+        if not self.supervisor_alive():
+            self.supervisor.stopped.set()
+            return
+        done = threading.Event()
+        self.supervisor.events.put(Shutdown(reason, done))
+        done.wait(1.0)
+
+    @property
+    def stopped(self) -> bool:
+        return self.supervisor.stopped.is_set()
+
+    def supervisor_alive(self) -> bool:
+        return self.supervisor.thread.is_alive()
+
+    # -- problems -----------------------------------------------------------------------------------
+    def report_error(self, where: str, error: Exception) -> None:
+        """An unexpected error in a thread of the node: one line on the console and in the log; the thread goes on."""
+        rospy.logerr("%s: %s: %s: %s", NODE_NAME, where, type(error).__name__, error)
+        self.log.write(contract.ERROR, where=where, message="{}: {}".format(type(error).__name__, error))
+
+    def report_problem(self, where: str, text: str) -> None:
+        """Bad input from outside (README: "Faults"): one line on the console and in the log."""
+        rospy.logwarn("%s: %s", NODE_NAME, text)
+        self.log.write(contract.ERROR, where=where, message=text)

@@ -1,0 +1,71 @@
+"""What the part streams (node/part_stream.py) and the base stream (node/base_stream.py) share: their states, one
+transition helper, and yielding to another node (README: "Status", "Sharing the robot").
+
+States: ``idle`` (nothing of ours runs), ``animating``, ``yielding`` (another node moves it: we send nothing until
+its motion has ended and the quiet time has passed), ``waiting`` (parts only: enabled, but waiting for the
+controller or for a retry), ``homing`` (the return to the centre, or to the heading of enable, after a disable).
+The status topic names them so. Every change goes through `transition_to`, which checks it against the stream's
+table of transitions and logs ``old -> new`` at debug level.
+"""
+import enum
+from typing import Callable, Dict, Set
+
+from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.contract import NODE_NAME
+from cssr_system.animate_behaviour.node.foreign_motion import ForeignMotionTracker
+
+
+class StreamState(enum.Enum):
+    IDLE = "idle"
+    ANIMATING = "animating"
+    YIELDING = "yielding"
+    WAITING = "waiting"
+    HOMING = "homing"
+
+
+class MotionStream:
+    """A state machine over `StreamState` (`transitions`: the allowed changes) that yields to other nodes.
+
+    `name`: the part key (or the wheels key); `controller`: its action namespace or topic; `log`: the event log;
+    `debug`: console lines at debug level."""
+
+    def __init__(self, name: str, controller: str, transitions: Dict[StreamState, Set[StreamState]], log,
+                 debug: Callable[..., None]) -> None:
+        self.name = name
+        self.controller = controller
+        self.state = StreamState.IDLE
+        self.foreign = ForeignMotionTracker()  # other nodes' motion on this controller or topic
+        self.yielding_to = ""  # the caller id of the node we yield to
+        self._transitions = transitions
+        self._log = log
+        self._debug = debug
+        self._yield_started = 0.0
+
+    def transition_to(self, new_state: StreamState, why: str) -> None:
+        if new_state not in self._transitions[self.state]:
+            raise RuntimeError("%s: no transition %s -> %s (%s)" % (
+                self.name, self.state.value, new_state.value, why))
+        self._debug("%s: %s: %s -> %s (%s).", NODE_NAME, self.name, self.state.value, new_state.value, why)
+        self.state = new_state
+
+    @property
+    def active(self) -> bool:
+        return self.state != StreamState.IDLE
+
+    def log_yield(self, caller: str, kind: str) -> None:
+        """Another node's motion replaces ours (the log's part_yielded)."""
+        self._log.write(contract.PART_YIELDED, part=self.name, controller=self.controller, caller=caller, kind=kind)
+
+    def start_yielding(self, caller: str, now: float, why: str) -> None:
+        self.yielding_to = caller
+        self._yield_started = now
+        self.log_yield(caller, self.foreign.kind_of_latest())
+        self.transition_to(StreamState.YIELDING, why)
+
+    def stop_yielding(self, now: float) -> str:
+        """The other node is done and calm: logs the resume and says why we move again."""
+        self._log.write(contract.PART_RESUMED, part=self.name, controller=self.controller, caller=self.yielding_to,
+                        seconds=round(now - self._yield_started, 3))
+        why = "%s done, calm for %.1f s" % (self.yielding_to, self.foreign.quiet_time)
+        self.yielding_to = ""
+        return why

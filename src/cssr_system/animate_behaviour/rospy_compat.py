@@ -1,0 +1,36 @@
+"""The only place where the node relies on more of rospy and actionlib than their documented calls.
+
+Each function says why the node needs it; test/unit/test_rospy_compat.py checks every assumption it makes about
+the installed rospy and actionlib, so that a new version that breaks one fails a test instead of the robot.
+test/unit/test_private_access.py keeps such access out of every other module.
+"""
+from typing import Any
+
+
+def caller_of(message: Any) -> str:
+    """The caller id of the node that published a received message ("" when unknown).
+
+    Another node's motion is told apart from ours by its publisher; rospy gives a received message the connection
+    header it came with, whose "callerid" names that node (rospy's documented way to learn a message's sender)."""
+    header = getattr(message, "_connection_header", None) or {}
+    return header.get("callerid", "")
+
+
+def server_ready(client) -> bool:
+    """actionlib's own test in ``ActionClient.wait_for_server``, made once without waiting.
+
+    wait_for_server sleeps on ROS time, so a simulation clock that stands still would hold the caller; the node must
+    never block. The test: a status message came from the server, our goal and cancel topics reach that server, and
+    its result topic reaches us, so that a goal sent now is neither lost nor left without its result."""
+    status = client.last_status_msg
+    if status is None:
+        return False
+    server = caller_of(status)
+    return (client.pub_goal.impl.has_connection(server) and client.pub_cancel.impl.has_connection(server)
+            and any(connection.callerid_pub == server for connection in client.result_sub.impl.connections))
+
+
+def ignore_feedback(client) -> None:
+    """Stops an ActionClient receiving its server's feedback, which the node does not use: a controller publishes
+    it for every active goal at its state rate, and each message would wake and cost the node a decode."""
+    client.feedback_sub.unregister()
