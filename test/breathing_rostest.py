@@ -21,7 +21,7 @@ from cssr_system.pepper.joint_table import PARTS, speed_limit
 from cssr_system.srv import setActivation
 
 RUN = 16.0  # s animating: more than one goal (3 breaths of 5 s each), so the test sees a splice
-BLEND = 2.0  # s after enable before the joints must be in their bands (the first goal blends from rest)
+BLEND = 3.0  # s after enable before the joints must be in their bands (the first goal eases in from rest)
 JUMP_ACCELERATION = 8.0  # rad/s^2: a velocity jump between 50 Hz samples shows far beyond the planned accelerations
 BAND_TOLERANCE = 1e-3
 

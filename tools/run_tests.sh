@@ -18,6 +18,9 @@ python3 tools/check_to_junit.py "$RESULTS_DIR/check-catkin-lint.xml" catkin_lint
   catkin_lint --strict -W2 --pkg cssr_system
 python3 tools/check_to_junit.py "$RESULTS_DIR/check-flake8.xml" flake8 -- \
   python3 -m flake8 src scripts test tools
+# No function of the package above cyclomatic complexity 10 (flake8's mccabe check).
+python3 tools/check_to_junit.py "$RESULTS_DIR/check-complexity.xml" complexity -- \
+  python3 -m flake8 --select C901 --max-complexity 10 src
 
 log_step "wire compatibility: control_msgs checksums (pytest)"
 checksums=test/unit/test_control_msgs_checksums.py
@@ -31,7 +34,8 @@ bash tools/unit_tests_noetic_python.sh "$RESULTS_DIR/unit-python38.xml"
 log_step "system tests: the commands and the README (pytest)"
 python3 -m pytest test/system -q -p no:cacheprovider --junitxml="$RESULTS_DIR/system.xml"
 
-expected=(checksums.xml unit.xml unit-python38.xml system.xml check-python38.xml check-catkin-lint.xml check-flake8.xml)
+expected=(checksums.xml unit.xml unit-python38.xml system.xml check-python38.xml check-catkin-lint.xml check-flake8.xml
+          check-complexity.xml)
 rostests=(test/*.test)
 if [ -e "${rostests[0]}" ]; then
   log_step "integration tests (rostest, two at a time)"
