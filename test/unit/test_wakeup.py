@@ -19,7 +19,7 @@ def wakeup():
     handled.clear()
     yield woken
     signal.signal(signal.SIGUSR1, previous)
-    woken.close()
+    signal.set_wakeup_fd(-1)  # signals are no longer written to the pipe
 
 
 handled = []

@@ -1,4 +1,4 @@
-"""What the node's main thread sleeps on between signals (README: "Performance").
+"""What the node's main thread sleeps on between signals.
 
 Python runs signal handlers in the main thread, but the kernel may hand a process's signal to any of rospy's
 threads; a main thread waiting on a lock or an event then sees it only when its wait ends, which is why it used to
@@ -9,7 +9,6 @@ Anything else that must wake it (a stop request, the supervisor thread's end) wr
 import os
 import select
 import signal
-from typing import Optional
 
 
 class Wakeup:
@@ -17,11 +16,10 @@ class Wakeup:
         self._read, self._write = os.pipe()
         os.set_blocking(self._read, False)
         os.set_blocking(self._write, False)  # set_wakeup_fd asks for it; a full pipe already wakes the reader
-        self._previous_fd: Optional[int] = None
 
     def receive_signals(self) -> None:
         """From the main thread: signals, wherever they land, wake `wait`."""
-        self._previous_fd = signal.set_wakeup_fd(self._write, warn_on_full_buffer=False)
+        signal.set_wakeup_fd(self._write, warn_on_full_buffer=False)
 
     def wake(self) -> None:
         """From any thread: `wait` returns now (or at once, if it is not waiting yet)."""
@@ -41,11 +39,3 @@ class Wakeup:
         except BlockingIOError:
             pass
         return True
-
-    def close(self) -> None:
-        """Signals are no longer written here (from the main thread, after `receive_signals`)."""
-        if self._previous_fd is not None:
-            signal.set_wakeup_fd(self._previous_fd)
-            self._previous_fd = None
-        os.close(self._read)
-        os.close(self._write)
