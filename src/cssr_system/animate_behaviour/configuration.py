@@ -14,8 +14,10 @@ File format (``config/animateBehaviourConfiguration.ini``):
   accepted in any letter case.
 
 `KEYS` is the one table of keys: file name, attribute of `Configuration`, required or default, parser
-and what is expected. The 14 keys of the seed are required; ``randomSeed``, ``homeOnDisable`` and
-``headingBound`` are optional with the defaults in `KEYS`. Any other key is an error.
+and what is expected. The 14 keys from ``platform`` to ``legRepeatFactor`` are required; the others
+(``randomSeed``, ``homeOnDisable``, ``headingBound``, ``yieldQuietTime``, ``motionStyle``,
+``breathsPerMinute``, ``breathingAmplitude``) are optional with the defaults in `KEYS`. Any other key is
+an error.
 
 Cross-key rules: ``legRepeatFactor <= numPoints``; ``numPointsLeg <= floor(numPoints /
 legRepeatFactor)`` (the leg chunk size); the topic file of the selected platform (``robotTopics`` for
@@ -45,7 +47,8 @@ import os
 import re
 import textwrap
 from collections import OrderedDict
-from typing import Callable, Dict, FrozenSet, List, Mapping, NamedTuple, Optional, Sequence, Tuple
+from typing import (Callable, Container, Dict, FrozenSet, Iterable, List, Mapping, NamedTuple, Optional, Sequence,
+                    Tuple)
 
 from cssr_system.animate_behaviour.key_value_file import (distinct_known_lines, join_problems, one_line,
                                                           read_key_value_file, unknown_key)
@@ -210,11 +213,14 @@ def _format_boolean(value: object) -> str:
     return "true" if value else "false"
 
 
-def _platform(text: str) -> str:
-    lowered = text.lower()
-    if lowered not in PLATFORMS:
-        raise InvalidValue()
-    return lowered
+def _one_of(choices: Tuple[str, ...]) -> Callable[[str], str]:
+    """A parser of one word of `choices`, accepted in any letter case and returned in lower case."""
+    def parse(text: str) -> str:
+        lowered = text.lower()
+        if lowered not in choices:
+            raise InvalidValue()
+        return lowered
+    return parse
 
 
 def _behaviour(text: str) -> FrozenSet[str]:
@@ -236,13 +242,6 @@ def _format_behaviour(value: object) -> str:
     if set(value) == set(BEHAVIOURS):  # type: ignore[call-overload]
         return ALL_BEHAVIOURS
     return ",".join(name for name in BEHAVIOURS if name in value)  # type: ignore[operator]
-
-
-def _motion_style(text: str) -> str:
-    lowered = text.lower()
-    if lowered not in MOTION_STYLES:
-        raise InvalidValue()
-    return lowered
 
 
 def _file_name(text: str) -> str:
@@ -294,7 +293,7 @@ def _key(name: str, attribute: str, parse: Callable[[str], object], format_value
 
 
 KEYS: Dict[str, KeySpec] = OrderedDict((spec.name, spec) for spec in (
-    _key("platform", "platform", _platform, str, " or ".join(PLATFORMS),
+    _key("platform", "platform", _one_of(PLATFORMS), str, " or ".join(PLATFORMS),
          "where the node runs (the physical Pepper or the simulator); selects the topic file", "robot"),
     _key("behaviour", "behaviour", _behaviour, _format_behaviour,
          "all or a comma list of " + ", ".join(BEHAVIOURS) + ", in any letter case",
@@ -339,7 +338,7 @@ KEYS: Dict[str, KeySpec] = OrderedDict((spec.name, spec) for spec in (
     _key("yieldQuietTime", "yield_quiet_time", number_in(0.0, 10.0), _format_number,
          "a number of seconds in [0, 10]",
          "calm time after another node's motion of a part before the part moves again", default=1.0),
-    _key("motionStyle", "motion_style", _motion_style, str, "random or breathing",
+    _key("motionStyle", "motion_style", _one_of(MOTION_STYLES), str, "random or breathing",
          "random: random positions in each joint's band; breathing: a slow breathing rhythm with coherent "
          "variation and rare posture shifts, in the same bands", default="random"),
     _key("breathsPerMinute", "breaths_per_minute", number_in(5.0, 20.0), _format_number,
@@ -459,6 +458,20 @@ def parse_configuration(text: str, source: str, overrides: Optional[Mapping[str,
     (default: the package's data folder). Raises ConfigurationError listing every problem."""
     problems: List[str] = []
     values: Dict[str, _Value] = {}
+    in_file = _check_file_values(text, source, values, problems)
+    _check_overrides(overrides or {}, values, problems)
+    check_required_keys(KEYS.values(), in_file | set(overrides or {}), source, problems)
+    _check_cross_keys(values, data_dir, problems)
+    if problems:
+        raise ConfigurationError(problems)
+    return Configuration(**{
+        spec.attribute: values[spec.name].value if spec.name in values else spec.default
+        for spec in KEYS.values()})
+
+
+def _check_file_values(text: str, source: str, values: Dict[str, _Value], problems: List[str]) -> FrozenSet[str]:
+    """Put the valid values of the file's lines into `values` and its problems into `problems`; the keys
+    the file has, valid or not (a present but invalid key is not also reported missing)."""
     in_file = set()
     for where, line in distinct_known_lines(text, source, tuple(KEYS), problems):
         in_file.add(line.key)
@@ -466,35 +479,43 @@ def parse_configuration(text: str, source: str, overrides: Optional[Mapping[str,
                               repr(line.value), problems)
         if checked is not None:
             values[line.key] = checked
+    return frozenset(in_file)
 
-    for key, override in (overrides or {}).items():
+
+def _check_overrides(overrides: Mapping[str, object], values: Dict[str, _Value], problems: List[str]) -> None:
+    """Replace the file's values in `values` by the valid parameters of `overrides`; their problems go into
+    `problems`. An invalid parameter still removes the file's value: the parameter was meant to win."""
+    for key, override in overrides.items():
         where = "parameter ~{}".format(key)
         spec = KEYS.get(key)
         if spec is None:
             problems.append("{}: {}".format(where, unknown_key(str(key), tuple(KEYS))))
             continue
         values.pop(key, None)  # the parameter replaces the file's value, valid or not
-        try:
-            text = override_text(override)
-        except TypeError as error:
-            problems.append("{} = {!r}: expected {} (a parameter of type {} is not accepted)".format(
-                where, override, spec.expected, error))
-            continue
-        checked = check_value(spec, text, where, where, repr(override), problems)
+        checked = check_override(spec, override, where, problems)
         if checked is not None:
             values[key] = checked
 
-    supplied = in_file | set(overrides or {})
-    for spec in KEYS.values():
+
+def check_override(spec: KeySpec, override: object, where: str, problems: List[str]) -> Optional[_Value]:
+    """The parsed value of one parameter (`where`: ``parameter ~<key>``), or None after adding its problem
+    to `problems`."""
+    try:
+        text = override_text(override)
+    except TypeError as error:
+        problems.append("{} = {!r}: expected {} (a parameter of type {} is not accepted)".format(
+            where, override, spec.expected, error))
+        return None
+    return check_value(spec, text, where, where, repr(override), problems)
+
+
+def check_required_keys(specs: Iterable[KeySpec], supplied: Container[str], source: str,
+                        problems: List[str]) -> None:
+    """Add a problem for each required key of `specs` that is not `supplied` (neither in the file `source`
+    nor among the parameters), in the order of `specs`."""
+    for spec in specs:
         if spec.required and spec.name not in supplied:
             problems.append("{}: missing key {} (expected {})".format(source, spec.name, spec.expected))
-
-    _check_cross_keys(values, data_dir, problems)
-    if problems:
-        raise ConfigurationError(problems)
-    return Configuration(**{
-        spec.attribute: values[spec.name].value if spec.name in values else spec.default
-        for spec in KEYS.values()})
 
 
 def load_configuration(path: str, overrides: Optional[Mapping[str, object]] = None,

@@ -82,31 +82,48 @@ def format_timestamp(epoch_seconds: float) -> str:
 
 def _jsonable(value: Any, field: str) -> Any:
     """`value` as plain JSON types; ValueError naming `field` for NaN or infinity."""
-    if value is None or isinstance(value, (str, bool)):
+    if value is None or isinstance(value, (str, bool)):  # bool before int: a bool is an int
         return value
     if isinstance(value, numpy.ndarray):
         return _jsonable(value.tolist(), field)
     if isinstance(value, numpy.generic):  # numpy scalars: float64, int32, bool_, str_ ...
         return _jsonable(value.item(), field)
+    if isinstance(value, (int, float)):
+        return _jsonable_number(value, field)
+    if isinstance(value, (dict, list, tuple, set, frozenset)):
+        return _jsonable_collection(value, field)
+    if isinstance(value, (datetime.datetime, datetime.date, datetime.time)):
+        return value.isoformat()
+    return str(value)
+
+
+def _jsonable_number(value: Any, field: str) -> Any:
+    """An int or float (subclasses included) as a plain int or a finite float; ValueError naming `field`
+    for NaN or infinity, which JSON cannot hold."""
     if isinstance(value, int):
         return int(value)  # IntEnum and friends as plain numbers
-    if isinstance(value, float):
-        if not math.isfinite(value):
-            raise ValueError("event log field %r is %r: not allowed in the log" % (field, value))
-        return float(value)
+    if not math.isfinite(value):
+        raise ValueError("event log field %r is %r: not allowed in the log" % (field, value))
+    return float(value)
+
+
+def _jsonable_collection(value: Any, field: str) -> Any:
+    """A dict as an object with string keys, a list or tuple as a list, a set as a sorted list; each item
+    made plain in turn, its field named after the container's (``field.key``, ``field[0]``, ``field{}``)."""
     if isinstance(value, dict):
         return {str(key): _jsonable(item, "%s.%s" % (field, key)) for key, item in value.items()}
     if isinstance(value, (list, tuple)):
         return [_jsonable(item, "%s[%d]" % (field, index)) for index, item in enumerate(value)]
-    if isinstance(value, (set, frozenset)):
-        items = [_jsonable(item, "%s{}" % field) for item in value]
-        try:
-            return sorted(items)
-        except TypeError:  # mixed types: a stable order all the same
-            return sorted(items, key=lambda item: json.dumps(item, sort_keys=True))
-    if isinstance(value, (datetime.datetime, datetime.date, datetime.time)):
-        return value.isoformat()
-    return str(value)
+    return _sorted_items([_jsonable(item, "%s{}" % field) for item in value])
+
+
+def _sorted_items(items: List[Any]) -> List[Any]:
+    """The plain items of a set in sorted order: a set has none of its own, and a log should not depend on
+    hashing."""
+    try:
+        return sorted(items)
+    except TypeError:  # mixed types: a stable order all the same
+        return sorted(items, key=lambda item: json.dumps(item, sort_keys=True))
 
 
 def format_log_line(timestamp: str, event: str, fields: Dict[str, Any]) -> str:
@@ -202,8 +219,7 @@ class EventLog:
         try:
             moment = self._clock()
         except Exception as error:  # not expected; still never the caller's problem
-            self._report_later(logging.ERROR, "%s: the log file %s: unexpected %s" % (
-                NODE_NAME, self._path, _reason(error)))
+            self._report_unexpected(error)
             self._flush_reports()
             return
         self.write_at(moment, event, fields)
@@ -216,8 +232,7 @@ class EventLog:
                 if not self._closed:
                     self._write_line(line)
         except Exception as error:  # not expected; still never the caller's problem
-            self._report_later(logging.ERROR, "%s: the log file %s: unexpected %s" % (
-                NODE_NAME, self._path, _reason(error)))
+            self._report_unexpected(error)
         self._flush_reports()
 
     def close(self) -> None:
@@ -398,6 +413,11 @@ class EventLog:
             fcntl.flock(self._fd, fcntl.LOCK_UN)
         self._drop_descriptor()
         self._fd = self._opener(self._path)
+
+    def _report_unexpected(self, error: BaseException) -> None:
+        """Report an error that no part of writing expects (a bug, not a disk): the caller never sees it."""
+        self._report_later(logging.ERROR, "%s: the log file %s: unexpected %s" % (
+            NODE_NAME, self._path, _reason(error)))
 
     def _report_later(self, level: int, text: str) -> None:
         with self._reports_lock:

@@ -75,6 +75,17 @@ PARTS: Dict[str, Part] = OrderedDict(
 # The head's controller exists on both platforms; this package never drives it.
 HEAD_PART = Part("Head", "head", ("HeadYaw", "HeadPitch"), (0.0, 0.0))
 
+# Each controller's own joint order, as Pepper's controller configuration lists them (keys of PARTS, and the head's):
+# the order of its feedback and state messages. PARTS keeps this package's order; goals are matched by joint name.
+CONTROLLER_JOINTS: Dict[str, Tuple[str, ...]] = {
+    "RArm": ("RShoulderPitch", "RShoulderRoll", "RElbowYaw", "RElbowRoll", "RWristYaw"),
+    "LArm": ("LShoulderPitch", "LShoulderRoll", "LElbowYaw", "LElbowRoll", "LWristYaw"),
+    "RHand": ("RHand",),
+    "LHand": ("LHand",),
+    "Leg": ("HipRoll", "HipPitch", "KneePitch"),
+    "Head": ("HeadYaw", "HeadPitch"),
+}
+
 # Controller names on the robot and in Gazebo (<namespace>/<name>/follow_joint_trajectory).
 CONTROLLER_NAMES: Dict[str, str] = {
     "RArm": "RightArm_controller",
@@ -138,6 +149,10 @@ def centre_of(joint_name: str) -> float:
 def short_name(joint_name: str) -> str:
     """A joint's name without its side letter: RShoulderPitch -> ShoulderPitch, HipRoll unchanged."""
     return joint_name[1:] if joint_name[0] in "LR" and joint_name[1].isupper() else joint_name
+
+
+# Arm joints (short names) that move as mirror images on the two sides: the right's motion is the left's negated.
+MIRRORED_JOINTS = ("ShoulderRoll", "ElbowRoll", "ElbowYaw", "WristYaw")
 
 
 def speed_limit(name: str) -> float:

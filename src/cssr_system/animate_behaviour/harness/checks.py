@@ -3,7 +3,7 @@ the base heading and the Wheels commands) turned into `Check` results by `evalua
 """
 import math
 from collections import OrderedDict
-from typing import Dict, Iterable, List, Mapping, NamedTuple, Optional, Sequence, Tuple
+from typing import Dict, Iterable, Iterator, List, Mapping, NamedTuple, Optional, Sequence, Tuple
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import Configuration, configuration_items
@@ -18,7 +18,7 @@ from cssr_system.animate_behaviour.harness.settings import (HOME_MAX_DURATION, B
                                                             TESTS, node_configuration)
 from cssr_system.pepper.joint_table import (RELATIVE, wheels_command_kind, BASE_MAX_ANGULAR_ACCELERATION,
                                             BASE_MAX_ANGULAR_VELOCITY, BASE_VELOCITY_COMMAND_TIMEOUT,
-                                            HEAD_PART, JOINTS, PARTS, centre_of)
+                                            HEAD_PART, JOINTS, PARTS, Part, centre_of)
 
 
 class Check(NamedTuple):
@@ -342,55 +342,81 @@ def check_parts_moved(harness: HarnessConfiguration, config: Configuration, expe
     tolerance = harness.position_tolerance
     if not observation.joints:
         return Check(name, False, "no /joint_states received")
-    start, end = observation.enable_sent, observation.disable_sent
     moved, problems = [], []
     for part in list(PARTS.values()) + [HEAD_PART]:
         if part.key in expected.parts:
-            # A driven part moved if one of its moving joints did; held joints are checked by the
-            # bounds. Random positions may land close together: a quarter of the range is enough.
-            changes, can_move = [], False
-            for joint in part.joints:
-                bound = expected.bounds[joint]
-                change = _joint_range(observation.joints, joint, start, end)
-                if change is None:
-                    problems.append("{} is missing from /joint_states".format(joint))
-                    continue
-                if bound.moving:
-                    width = bound.upper - bound.lower
-                    can_move = can_move or width > 4 * tolerance
-                    changes.append((change, joint, max(tolerance, min(5 * tolerance, 0.25 * width))))
-            if any(change > threshold for change, _, threshold in changes):
-                moved.append(part.key)
-            elif can_move and changes:
-                change, joint, _ = max(changes)
-                problems.append("{} did not move: largest change {} ({})".format(
-                    part.label, format_number(change), joint))
+            part_moved, part_problems = _driven_part_moved(part, expected, observation, tolerance)
         else:
-            changes = [(change, joint) for change, joint in
-                       ((_joint_range(observation.joints, joint, start, observation.ended), joint)
-                        for joint in part.joints) if change is not None]
-            if changes and max(changes)[0] > tolerance:
-                change, joint = max(changes)
-                moved.append(part.key)
-                problems.append("{} moved but should not: {} changed by {}".format(part.label, joint,
-                                                                                   format_number(change)))
-    if observation.headings:
-        reference = heading_at(observation.headings, start)
-        turn = _largest_turn(observation.headings, reference, start, observation.ended)  # type: ignore[arg-type]
-        if turn > harness.heading_tolerance:
-            moved.append(BASE)
-            if not expected.base:
-                problems.append("the base turned by {} rad but should not".format(format_number(turn)))
-        elif expected.base and config.rot_maximum_range > 0 and config.heading_bound > harness.heading_tolerance:
-            problems.append("the base did not turn: largest turn {} rad ({})".format(
-                format_number(turn), observation.heading_source))
-    elif expected.base:
-        problems.append("no base heading observed ({})".format(observation.heading_source or "no source"))
+            part_moved, part_problems = _idle_part_moved(part, observation, tolerance)
+        if part_moved:
+            moved.append(part.key)
+        problems.extend(part_problems)
+    base_turned, base_problems = _base_turned(harness, config, expected, observation)
+    if base_turned:
+        moved.append(BASE)
+    problems.extend(base_problems)
     detail = "moved: {}; expected: {}".format(_labels(moved),
                                               _labels(expected.parts + ((BASE,) if expected.base else ())))
     if problems:
         return Check(name, False, "; ".join(problems) + " (" + detail + ")")
     return Check(name, True, detail)
+
+
+def _driven_part_moved(part: Part, expected: ExpectedMotion, observation: Observation,
+                       tolerance: float) -> Tuple[bool, List[str]]:
+    """Whether a part the test drives moved while enabled, and what is wrong: a joint missing from
+    /joint_states, or no movement where the bounds leave room for one."""
+    # A driven part moved if one of its moving joints did; held joints are checked by the
+    # bounds. Random positions may land close together: a quarter of the range is enough.
+    problems = []
+    changes, can_move = [], False
+    for joint in part.joints:
+        bound = expected.bounds[joint]
+        change = _joint_range(observation.joints, joint, observation.enable_sent, observation.disable_sent)
+        if change is None:
+            problems.append("{} is missing from /joint_states".format(joint))
+            continue
+        if bound.moving:
+            width = bound.upper - bound.lower
+            can_move = can_move or width > 4 * tolerance
+            changes.append((change, joint, max(tolerance, min(5 * tolerance, 0.25 * width))))
+    if any(change > threshold for change, _, threshold in changes):
+        return True, problems
+    if can_move and changes:
+        change, joint, _ = max(changes)
+        problems.append("{} did not move: largest change {} ({})".format(part.label, format_number(change), joint))
+    return False, problems
+
+
+def _idle_part_moved(part: Part, observation: Observation, tolerance: float) -> Tuple[bool, List[str]]:
+    """Whether a part the test must not move moved, from enable to the end of the test, and the problem
+    that makes."""
+    changes = [(change, joint) for change, joint in
+               ((_joint_range(observation.joints, joint, observation.enable_sent, observation.ended), joint)
+                for joint in part.joints) if change is not None]
+    if not changes or max(changes)[0] <= tolerance:
+        return False, []
+    change, joint = max(changes)
+    return True, ["{} moved but should not: {} changed by {}".format(part.label, joint, format_number(change))]
+
+
+def _base_turned(harness: HarnessConfiguration, config: Configuration, expected: ExpectedMotion,
+                 observation: Observation) -> Tuple[bool, List[str]]:
+    """Whether the base turned beyond the heading tolerance during the test, and what is wrong: a turn
+    the test does not expect, no turn where the configuration allows one, or no heading at all."""
+    if not observation.headings:
+        if expected.base:
+            return False, ["no base heading observed ({})".format(observation.heading_source or "no source")]
+        return False, []
+    reference = heading_at(observation.headings, observation.enable_sent)
+    turn = _largest_turn(observation.headings, reference,  # type: ignore[arg-type]
+                         observation.enable_sent, observation.ended)
+    if turn > harness.heading_tolerance:
+        return True, [] if expected.base else ["the base turned by {} rad but should not".format(format_number(turn))]
+    if expected.base and config.rot_maximum_range > 0 and config.heading_bound > harness.heading_tolerance:
+        return False, ["the base did not turn: largest turn {} rad ({})".format(
+            format_number(turn), observation.heading_source)]
+    return False, []
 
 
 def bounded_from(expected: ExpectedMotion, config: Configuration, observation: Observation) -> Dict[str, float]:
@@ -415,30 +441,21 @@ def check_observed_within_bounds(harness: HarnessConfiguration, config: Configur
     name = "Return to the centre within bounds" if returning else "Observed positions within bounds"
     tolerance = harness.position_tolerance
     starts = bounded_from(expected, config, observation)
-    switch = observation.disable_sent + DISABLE_LATENCY
     origin, moment_name = ((observation.disable_sent, "disabled") if returning
                            else (observation.enable_sent, "enabled"))
     count = outside = 0
     worst: Optional[Tuple[float, str]] = None
     joints_outside = []
-    for sample in observation.joints:
-        if (sample.time > switch) != returning:
-            continue
-        for joint, bound in expected.bounds.items():
-            if sample.time < starts[bound.part] or joint not in sample.positions:
-                continue
-            value = sample.positions[joint]
-            count += 1
-            excess = _excess(bound, value)
-            if excess > tolerance:
-                outside += 1
-                if joint not in joints_outside:
-                    joints_outside.append(joint)
-                if worst is None or excess > worst[0]:
-                    where = "[{}, {}]".format(format_number(bound.lower), format_number(bound.upper)) if bound.moving \
-                        else "its centre {} (held)".format(format_number(bound.centre))
-                    worst = (excess, "{} = {} at +{:.2f} s after {}, outside {} by {}".format(
-                        joint, format_number(value), sample.time - origin, moment_name, where, format_number(excess)))
+    for sample, joint, bound in _bounded_positions(expected, starts, observation, returning):
+        value = sample.positions[joint]
+        count += 1
+        excess = _excess(bound, value)
+        if excess > tolerance:
+            outside += 1
+            if joint not in joints_outside:
+                joints_outside.append(joint)
+            if worst is None or excess > worst[0]:
+                worst = (excess, _outside_text(joint, bound, value, sample.time - origin, moment_name, excess))
     if worst is not None:
         return Check(name, False, "{}; {} of {} observed positions beyond the tolerance {} in {}".format(
             worst[1], outside, count, format_number(tolerance), ", ".join(joints_outside)))
@@ -449,6 +466,30 @@ def check_observed_within_bounds(harness: HarnessConfiguration, config: Configur
             "after disabled" if returning else "between the first waypoint and disabled"))
     return Check(name, True, "{} positions of {} joints within their bounds (tolerance {})".format(
         count, len(expected.bounds), format_number(tolerance)))
+
+
+def _bounded_positions(expected: ExpectedMotion, starts: Mapping[str, float], observation: Observation,
+                       returning: bool) -> Iterator[Tuple[JointSample, str, JointBound]]:
+    """(sample, joint, bound) for every observed position that must lie within its bounds: from its
+    part's time in `starts` (see `bounded_from`), and while enabled or (`returning`) after the disabled
+    request reached the controllers."""
+    switch = observation.disable_sent + DISABLE_LATENCY
+    for sample in observation.joints:
+        if (sample.time > switch) != returning:
+            continue
+        for joint, bound in expected.bounds.items():
+            if sample.time < starts[bound.part] or joint not in sample.positions:
+                continue
+            yield sample, joint, bound
+
+
+def _outside_text(joint: str, bound: JointBound, value: float, elapsed: float, moment_name: str,
+                  excess: float) -> str:
+    """An observed position beyond its bound, `elapsed` seconds after the `moment_name` request."""
+    where = "[{}, {}]".format(format_number(bound.lower), format_number(bound.upper)) if bound.moving \
+        else "its centre {} (held)".format(format_number(bound.centre))
+    return "{} = {} at +{:.2f} s after {}, outside {} by {}".format(
+        joint, format_number(value), elapsed, moment_name, where, format_number(excess))
 
 
 def check_heading_bounded(harness: HarnessConfiguration, config: Configuration, observation: Observation) -> Check:
@@ -563,54 +604,84 @@ def check_motion_stopped(harness: HarnessConfiguration, config: Configuration, e
     if since is None:
         return Check(name, False, "no /joint_states received after the disabled request")
     last = after[-1]
-    still_for = last.time - since
     limit = BASE_STOP_LIMIT if expected.base else JOINT_STOP_LIMIT
-    problems = []
-    if still_for < QUIET_WINDOW - 0.05:
-        moving = [joint for joint in JOINTS if joint in last.positions and harness.position_tolerance <
-                  (_joint_range(after, joint, last.time - QUIET_WINDOW, last.time) or 0.0)]
-        problems.append("still moving {:.2f} s after disabled ({})".format(
-            last.time - observation.disable_sent,
-            ", ".join(moving[:4]) + (" ..." if len(moving) > 4 else "") if moving else "the base"))
-    elif since - observation.disable_sent > limit:
-        problems.append("came to rest {:.2f} s after disabled (limit {:g} s)".format(
-            since - observation.disable_sent, limit))
-    offsets = []
+    problems = _stillness_problems(after, since, observation.disable_sent, limit, harness.position_tolerance)
+    offsets: List[Tuple[float, str]] = []
     if config.home_on_disable:
-        for joint, bound in expected.bounds.items():
-            if joint in last.positions:
-                offsets.append((abs(last.positions[joint] - bound.centre), joint))
-        if offsets and max(offsets)[0] > harness.position_tolerance:
-            offset, joint = max(offsets)
-            problems.append("{} rests at {}, {} from its centre {} (homeOnDisable true)".format(
-                joint, format_number(last.positions[joint]), format_number(offset),
-                format_number(expected.bounds[joint].centre)))
+        offsets = [(abs(last.positions[joint] - bound.centre), joint)
+                   for joint, bound in expected.bounds.items() if joint in last.positions]
+        problems.extend(_off_centre_problems(offsets, expected, last, harness.position_tolerance))
     returned = None
     if expected.base and config.home_on_disable and observation.headings:
-        # The node turns the base back to its heading at enable (homeOnDisable). A velocity base
-        # stopped mid-turn brakes at its acceleration limit: that turn is allowed for.
-        reference = heading_at(observation.headings, observation.enable_sent)
-        returned = abs(_wrap(observation.headings[-1].heading - reference))  # type: ignore[operator]
-        allowed = return_tolerance(harness, config, observation.base_topic)
+        returned, allowed = _base_return(harness, config, observation)
         if returned > allowed:
             problems.append("the base rests {} rad from its heading at enable (allowed {}; homeOnDisable "
                             "true)".format(format_number(returned), format_number(allowed)))
     if problems and expected.base:
-        commands = ["{} turn {} rad at +{:.2f} s".format(entry.fields.get("purpose"),
-                                                         format_number(entry.fields.get("angle", 0.0)),
-                                                         entry_time(entry) - observation.disable_sent)
-                    for entry in observation.entries if entry.event == contract.BASE_COMMAND
-                    and entry_time(entry) >= observation.disable_sent - LOG_CLOCK_MARGIN]
-        if commands:
-            problems.append("base commands logged after disabled: " + ", ".join(commands))
+        problems.extend(_base_commands_after_disabled(observation))
     if problems:
         return Check(name, False, "; ".join(problems))
-    detail = "still from +{:.2f} s after disabled (limit {:g} s)".format(since - observation.disable_sent, limit)
+    return Check(name, True, _stopped_detail(since - observation.disable_sent, limit, offsets, returned))
+
+
+def _stillness_problems(after: Sequence[JointSample], since: float, disable_sent: float, limit: float,
+                        tolerance: float) -> List[str]:
+    """The problem, if any, with when the robot came to rest: still moving at the end of the test
+    (naming up to four joints that moved in the last quiet window), or at rest only after `limit`."""
+    last = after[-1]
+    if last.time - since < QUIET_WINDOW - 0.05:
+        moving = [joint for joint in JOINTS if joint in last.positions and tolerance <
+                  (_joint_range(after, joint, last.time - QUIET_WINDOW, last.time) or 0.0)]
+        return ["still moving {:.2f} s after disabled ({})".format(
+            last.time - disable_sent,
+            ", ".join(moving[:4]) + (" ..." if len(moving) > 4 else "") if moving else "the base")]
+    if since - disable_sent > limit:
+        return ["came to rest {:.2f} s after disabled (limit {:g} s)".format(since - disable_sent, limit)]
+    return []
+
+
+def _off_centre_problems(offsets: Sequence[Tuple[float, str]], expected: ExpectedMotion, last: JointSample,
+                         tolerance: float) -> List[str]:
+    """The problem, if any, of the joint resting farthest from its centre (`offsets`: (offset, joint))."""
+    if not offsets or max(offsets)[0] <= tolerance:
+        return []
+    offset, joint = max(offsets)
+    return ["{} rests at {}, {} from its centre {} (homeOnDisable true)".format(
+        joint, format_number(last.positions[joint]), format_number(offset),
+        format_number(expected.bounds[joint].centre))]
+
+
+def _base_return(harness: HarnessConfiguration, config: Configuration,
+                 observation: Observation) -> Tuple[float, float]:
+    """How far the base rests from its heading at enable, and how far it may."""
+    # The node turns the base back to its heading at enable (homeOnDisable). A velocity base
+    # stopped mid-turn brakes at its acceleration limit: that turn is allowed for.
+    reference = heading_at(observation.headings, observation.enable_sent)
+    returned = abs(_wrap(observation.headings[-1].heading - reference))  # type: ignore[operator]
+    return returned, return_tolerance(harness, config, observation.base_topic)
+
+
+def _base_commands_after_disabled(observation: Observation) -> List[str]:
+    """The base commands the node logged after disabled, as one line, to explain a base that did not
+    stop as expected; nothing when there are none."""
+    commands = ["{} turn {} rad at +{:.2f} s".format(entry.fields.get("purpose"),
+                                                     format_number(entry.fields.get("angle", 0.0)),
+                                                     entry_time(entry) - observation.disable_sent)
+                for entry in observation.entries if entry.event == contract.BASE_COMMAND
+                and entry_time(entry) >= observation.disable_sent - LOG_CLOCK_MARGIN]
+    return ["base commands logged after disabled: " + ", ".join(commands)] if commands else []
+
+
+def _stopped_detail(still_after: float, limit: float, offsets: Sequence[Tuple[float, str]],
+                    returned: Optional[float]) -> str:
+    """What a passed stop check found: when the robot came to rest, and how close to its centre and
+    heading."""
+    detail = "still from +{:.2f} s after disabled (limit {:g} s)".format(still_after, limit)
     if offsets:
         detail += ", at the centre (largest offset {})".format(format_number(max(offsets)[0]))
     if returned is not None:
         detail += ", the base back at its heading at enable (off by {} rad)".format(format_number(returned))
-    return Check(name, True, detail)
+    return detail
 
 
 def _evenly(items: Sequence, count: int) -> list:

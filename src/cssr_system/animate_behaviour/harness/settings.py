@@ -20,9 +20,9 @@ from collections import OrderedDict
 from typing import Dict, List, Mapping, NamedTuple, Optional, Tuple
 
 from cssr_system.animate_behaviour.configuration import (KEYS, Configuration, ConfigurationError,
-                                                         InvalidValue, KeySpec, check_value,
-                                                         integer_at_least, number_in, override_text,
-                                                         parse_configuration)
+                                                         InvalidValue, KeySpec, check_override,
+                                                         check_required_keys, check_value, integer_at_least,
+                                                         number_in, parse_configuration)
 from cssr_system.animate_behaviour.key_value_file import key_value_lines, read_key_value_file, unknown_key
 
 
@@ -137,9 +137,27 @@ def parse_harness_configuration(text: str, source: str, overrides: Optional[Mapp
     (key -> value). Raises ConfigurationError listing every problem."""
     problems: List[str] = []
     harness_values: Dict[str, object] = {}
-    first_lines: Dict[str, int] = {}
-    node_lines: Dict[int, str] = {}  # line number -> the line, for the node's parser
+    first_lines: Dict[str, int] = {}  # harness key -> its line in the file; 0 for a parameter
     raw_lines = text.lstrip("\ufeff").replace("\r\n", "\n").replace("\r", "\n").split("\n")
+    node_lines = _check_file_lines(text, source, raw_lines, harness_values, first_lines, problems)
+    node_overrides = _check_overrides(overrides or {}, harness_values, first_lines, problems)
+    check_required_keys(HARNESS_KEYS.values(), first_lines, source, problems)
+    node = _parse_node_keys(raw_lines, node_lines, source, node_overrides, data_dir, problems)
+    if node is not None and "testDuration" in harness_values:
+        _check_test_duration(node, harness_values["testDuration"], first_lines.get("testDuration"), source,
+                             problems)
+    if problems or node is None:
+        raise ConfigurationError(problems)
+    values = {spec.attribute: harness_values.get(spec.name, spec.default) for spec in HARNESS_KEYS.values()}
+    return HarnessConfiguration(source=source, node=node, **values)  # type: ignore[arg-type]
+
+
+def _check_file_lines(text: str, source: str, raw_lines: List[str], harness_values: Dict[str, object],
+                      first_lines: Dict[str, int], problems: List[str]) -> Dict[int, str]:
+    """Put the valid values of the file's harness keys into `harness_values` (and their lines into
+    `first_lines`), its problems into `problems`; the lines of the node's keys, by line number, which the
+    node's parser reads."""
+    node_lines: Dict[int, str] = {}
     for line in key_value_lines(text):
         where = "{}:{}".format(source, line.number)
         if line.key == BEHAVIOUR_KEY:
@@ -158,20 +176,20 @@ def parse_harness_configuration(text: str, source: str, overrides: Optional[Mapp
                                   repr(line.value), problems)
             if checked is not None:
                 harness_values[line.key] = checked.value
+    return node_lines
 
+
+def _check_overrides(overrides: Mapping[str, object], harness_values: Dict[str, object],
+                     first_lines: Dict[str, int], problems: List[str]) -> Dict[str, object]:
+    """Apply the parameters of harness keys to `harness_values` (an invalid one still removes the file's
+    value) and put their problems into `problems`; the parameters of node keys, for the node's parser."""
     node_overrides: Dict[str, object] = {}
-    for key, value in (overrides or {}).items():
+    for key, value in overrides.items():
         where = "parameter ~{}".format(key)
         if key in HARNESS_KEYS:
             harness_values.pop(key, None)  # the parameter replaces the file's value
             first_lines[key] = 0
-            try:
-                text = override_text(value)
-            except TypeError as error:
-                problems.append("{} = {!r}: expected {} (a parameter of type {} is not accepted)".format(
-                    where, value, HARNESS_KEYS[key].expected, error))
-                continue
-            checked = check_value(HARNESS_KEYS[key], text, where, where, repr(value), problems)
+            checked = check_override(HARNESS_KEYS[key], value, where, problems)
             if checked is not None:
                 harness_values[key] = checked.value
         elif key == BEHAVIOUR_KEY:
@@ -180,34 +198,36 @@ def parse_harness_configuration(text: str, source: str, overrides: Optional[Mapp
             node_overrides[key] = value
         else:
             problems.append("{}: {}".format(where, unknown_key(str(key), _KNOWN_KEYS)))
+    return node_overrides
 
-    for spec in HARNESS_KEYS.values():
-        if spec.required and spec.name not in first_lines:
-            problems.append("{}: missing key {} (expected {})".format(source, spec.name, spec.expected))
 
+def _parse_node_keys(raw_lines: List[str], node_lines: Dict[int, str], source: str,
+                     node_overrides: Mapping[str, object], data_dir: Optional[str],
+                     problems: List[str]) -> Optional[Configuration]:
+    """The node's configuration from its keys in the file and its parameters, or None after adding its
+    problems to `problems`."""
     # The node's keys keep their line numbers (other lines blank); missing ones are appended with the
     # shipped values, and behaviour with "all" (each test replaces it).
     node_text = [node_lines.get(number, "") for number in range(1, len(raw_lines) + 1)]
     present = {line.key for line in key_value_lines("\n".join(node_text))}
     node_text.extend("{} {}".format(spec.name, "all" if spec.name == BEHAVIOUR_KEY else spec.shipped)
                      for spec in KEYS.values() if spec.required and spec.name not in present)
-    node: Optional[Configuration] = None
     try:
-        node = parse_configuration("\n".join(node_text), source, node_overrides, data_dir)
+        return parse_configuration("\n".join(node_text), source, node_overrides, data_dir)
     except ConfigurationError as error:
         problems.extend(error.problems)
+        return None
 
-    if node is not None and "testDuration" in harness_values:
-        shortest = node.gesture_duration + 1.0
-        if harness_values["testDuration"] < shortest:  # type: ignore[operator]
-            line = first_lines.get("testDuration")
-            where = "{}:{}: testDuration".format(source, line) if line else "parameter ~testDuration"
-            problems.append("{} = {}: expected at least gestureDuration + 1 s = {:g} s, so that the first "
-                            "random position is reached".format(where, harness_values["testDuration"], shortest))
-    if problems or node is None:
-        raise ConfigurationError(problems)
-    values = {spec.attribute: harness_values.get(spec.name, spec.default) for spec in HARNESS_KEYS.values()}
-    return HarnessConfiguration(source=source, node=node, **values)  # type: ignore[arg-type]
+
+def _check_test_duration(node: Configuration, test_duration: object, line: Optional[int], source: str,
+                         problems: List[str]) -> None:
+    """Add a problem when the test is too short for the node to reach its first random position; `line`:
+    where the file sets testDuration, 0 or None when a parameter does."""
+    shortest = node.gesture_duration + 1.0
+    if test_duration < shortest:  # type: ignore[operator]
+        where = "{}:{}: testDuration".format(source, line) if line else "parameter ~testDuration"
+        problems.append("{} = {}: expected at least gestureDuration + 1 s = {:g} s, so that the first "
+                        "random position is reached".format(where, test_duration, shortest))
 
 
 def load_harness_configuration(path: str, overrides: Optional[Mapping[str, object]] = None,

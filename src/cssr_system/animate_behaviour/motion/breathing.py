@@ -31,7 +31,7 @@ import numpy
 from cssr_system.animate_behaviour.motion.planners import Planner
 from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory, speed_caps
 from cssr_system.animate_behaviour.motion.waypoints import PartMotion
-from cssr_system.pepper.joint_table import short_name
+from cssr_system.pepper.joint_table import MIRRORED_JOINTS, short_name
 from cssr_system.pepper.trajectory_interpolation import quintic_coefficients
 
 POINT_SPACING = 0.2  # s between the points of a goal
@@ -49,7 +49,6 @@ LAG = {"ShoulderPitch": 0.0, "ShoulderRoll": 0.0, "HipPitch": 0.0, "HipRoll": 0.
 AMPLITUDE = {"ShoulderPitch": 1.0, "ShoulderRoll": 0.8, "HipPitch": 1.0, "HipRoll": 0.6, "KneePitch": 1.0,
              "ElbowRoll": 0.9, "ElbowYaw": 0.7, "WristYaw": 0.6, "Hand": 0.8}
 SHIFTING = ("HipPitch", "HipRoll", "Hand")  # joints with posture shifts
-MIRRORED = ("ShoulderRoll", "ElbowRoll", "ElbowYaw", "WristYaw")  # the right side moves as the left's mirror
 SMOOTHSTEP_PEAK_SLOPE = 1.875  # the peak of d/dx of 6x^5 - 15x^4 + 10x^3
 SMOOTHSTEP_PEAK_CURVE = 10.0 / math.sqrt(3.0)  # the peak of |d2/dx2| of the same
 LONGEST_BLEND = 8.0  # s: the first point is never later than this (a part whose style barely accelerates)
@@ -106,7 +105,7 @@ class BreathingMotion:
             if name not in shared:
                 shared[name] = (rng.uniform(0.0, 2 * math.pi, len(VARIATION_FREQUENCIES)),
                                 PostureShifts(rng) if name in SHIFTING else None)
-            sign = -1.0 if name in MIRRORED and bounds.name.startswith("R") else 1.0
+            sign = -1.0 if name in MIRRORED_JOINTS and bounds.name.startswith("R") else 1.0
             weights = self._weights(name)
             peak_speed = half_width * (weights[0] * 2 * math.pi * self.frequency + weights[1] * sum(
                 share * 2 * math.pi * f for share, f in zip(VARIATION_SHARES, VARIATION_FREQUENCIES)) +

@@ -18,14 +18,13 @@ from cssr_system.animate_behaviour.configuration import load_configuration, ship
 from cssr_system.animate_behaviour.motion.styles import MotionStyle
 from cssr_system.animate_behaviour.motion.trajectory_timing import to_points
 from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng
-from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, PARTS, short_name
+from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, MIRRORED_JOINTS, PARTS, short_name
 from cssr_system.pepper.simulated_pepper import NaoqiDcmDriver
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
 
 SAMPLE_RATE = 50.0  # Hz
 MOVING_SPEED = 0.005  # rad/s (unit/s for a hand): a joint slower than this counts as still
 PERIOD_RANGE = (1.0, 30.0)  # s: the periods a person reads as a rhythm
-MIRRORED = ("ShoulderRoll", "ElbowRoll", "ElbowYaw", "WristYaw")  # right = -left when both sides move together
 
 
 class JointFigures(NamedTuple):
@@ -97,7 +96,7 @@ def figures(times: numpy.ndarray, names: Sequence[str], positions: numpy.ndarray
         other = ("L" if name.startswith("R") else "R") + name[1:] if name[0] in "LR" else None
         side = float("nan")
         if other in index and numpy.ptp(signal) > 1e-9 and numpy.ptp(positions[:, index[other]]) > 1e-9:
-            sign = -1.0 if short_name(name) in MIRRORED else 1.0
+            sign = -1.0 if short_name(name) in MIRRORED_JOINTS else 1.0
             side = float(numpy.corrcoef(signal, sign * positions[:, index[other]])[0, 1])
         peak_to_peak = float(numpy.ptp(signal))
         moving = float(numpy.mean(numpy.abs(velocities[:, column]) > MOVING_SPEED))

@@ -328,58 +328,82 @@ def time_trajectory(waypoints, joint_names: Sequence[str], start_positions, star
 def _time_by_rounds(first: _FirstSegment, waypoints, durations) -> TimedTrajectory:
     """time_trajectory's rounds, from the first guess of the durations."""
     knots = numpy.vstack([first.start, waypoints])
-    caps, at_rest = first.caps, first.at_rest
+    converged, first_grade, velocities, accelerations = _stretch_rounds(first, knots, durations)
+    if not converged:
+        velocities, accelerations = _scale_uniformly(first, knots, durations)
+    if not converged or first_grade != 0:
+        velocities, accelerations, durations = _time_first_segment_last(first, knots, velocities, accelerations,
+                                                                        durations)
+    return TimedTrajectory(numpy.cumsum(durations), waypoints.copy(), velocities[1:].copy(),
+                           accelerations[1:].copy())
 
-    def derivatives():
-        return _knot_derivatives(knots, durations, first.start_velocity, first.start_acceleration, at_rest)
 
-    def between_waypoints_excess(velocities, accelerations):
-        excess = _segment_speed_excess(knots, velocities, accelerations, durations, caps)[1:]
-        return excess.max(axis=1, initial=0.0)
+def _derivatives(first: _FirstSegment, knots, durations):
+    """The knots' velocities and accelerations for `durations` (they depend on the durations)."""
+    return _knot_derivatives(knots, durations, first.start_velocity, first.start_acceleration, first.at_rest)
 
+
+def _between_waypoints_excess(first: _FirstSegment, knots, durations, velocities, accelerations):
+    """Per segment between waypoints, its largest peak speed as a multiple of its joint's cap."""
+    excess = _segment_speed_excess(knots, velocities, accelerations, durations, first.caps)[1:]
+    return excess.max(axis=1, initial=0.0)
+
+
+def _stretch_rounds(first: _FirstSegment, knots, durations):
+    """The rounds proper, changing `durations` in place: (whether all was met, the first segment's grade,
+    the knots' velocities and accelerations of the last round)."""
     # Rounds: re-time the first segment if it fails, stretch the segments between waypoints that are
     # too fast, recompute the knots' derivatives (they depend on the durations), until all is met.
     # From a moving start the first segment may be unable to meet everything: then stop as soon as
     # the rest is met.
     give_up_first = False
-    converged = False
     for _ in range(MAX_STRETCH_ROUNDS):
-        velocities, accelerations = derivatives()
+        velocities, accelerations = _derivatives(first, knots, durations)
         first_grade = int(_first_segment_grades(first, knots[1], velocities[1], accelerations[1],
                                                 durations[:1])[0][0])
-        excess = between_waypoints_excess(velocities, accelerations)
+        excess = _between_waypoints_excess(first, knots, durations, velocities, accelerations)
         too_fast = excess > 1.0
         if not too_fast.any() and (first_grade == 0 or give_up_first):
-            converged = True
-            break
+            return True, first_grade, velocities, accelerations
         if first_grade != 0:
-            duration, achievable = _first_segment_duration(first, knots[1], velocities[1],
-                                                           accelerations[1])
-            # Only lengthen: the first waypoint's derivatives follow the first duration, and
-            # going back and forth between two durations would never settle.
-            durations[0] = max(durations[0], duration)
-            give_up_first = achievable > 0 and not at_rest.all()
+            give_up_first = _lengthen_first_segment(first, knots, velocities, accelerations, durations)
         durations[1:][too_fast] *= excess[too_fast] * STRETCH_MARGIN
-    if not converged:
-        # Uniform scaling divides every peak between waypoints by the same factor.
-        for _ in range(4):
-            velocities, accelerations = derivatives()
-            worst = float(between_waypoints_excess(velocities, accelerations).max(initial=0.0))
-            if worst <= 1.0:
-                break
-            durations *= worst * (1.0 + 1e-9)
-        velocities, accelerations = derivatives()
-    if not converged or first_grade != 0:
-        # The waypoints' derivatives are final now: time the first segment for them.
-        durations[0], first_grade = _first_segment_duration(first, knots[1], velocities[1],
-                                                            accelerations[1])
-        too_fast_left = between_waypoints_excess(velocities, accelerations).max(initial=0.0) > 1.0
-        if too_fast_left or first_grade != 0:
-            velocities, accelerations, durations, first_grade = _stop_and_go(
-                first, knots, velocities, accelerations, durations, first_grade, too_fast_left)
+    return False, first_grade, velocities, accelerations
 
-    return TimedTrajectory(numpy.cumsum(durations), waypoints.copy(), velocities[1:].copy(),
-                           accelerations[1:].copy())
+
+def _lengthen_first_segment(first: _FirstSegment, knots, velocities, accelerations, durations) -> bool:
+    """Lengthen durations[0] to the first segment's search result, in place; whether the rounds should stop
+    trying to meet everything on it (a moving start whose best timing still fails)."""
+    duration, achievable = _first_segment_duration(first, knots[1], velocities[1], accelerations[1])
+    # Only lengthen: the first waypoint's derivatives follow the first duration, and
+    # going back and forth between two durations would never settle.
+    durations[0] = max(durations[0], duration)
+    return achievable > 0 and not first.at_rest.all()
+
+
+def _scale_uniformly(first: _FirstSegment, knots, durations):
+    """After rounds that did not converge: scale every duration in place until no segment between
+    waypoints is too fast (four tries at most); the knots' velocities and accelerations then."""
+    # Uniform scaling divides every peak between waypoints by the same factor.
+    for _ in range(4):
+        velocities, accelerations = _derivatives(first, knots, durations)
+        worst = float(_between_waypoints_excess(first, knots, durations, velocities, accelerations).max(initial=0.0))
+        if worst <= 1.0:
+            break
+        durations *= worst * (1.0 + 1e-9)
+    return _derivatives(first, knots, durations)
+
+
+def _time_first_segment_last(first: _FirstSegment, knots, velocities, accelerations, durations):
+    """Time the first segment for the final derivatives of the waypoints, and stop and go at every waypoint
+    when something is still unmet: (velocities, accelerations, durations)."""
+    # The waypoints' derivatives are final now: time the first segment for them.
+    durations[0], first_grade = _first_segment_duration(first, knots[1], velocities[1], accelerations[1])
+    too_fast_left = _between_waypoints_excess(first, knots, durations, velocities, accelerations).max(initial=0.0) > 1.0
+    if too_fast_left or first_grade != 0:
+        velocities, accelerations, durations, _ = _stop_and_go(
+            first, knots, velocities, accelerations, durations, first_grade, too_fast_left)
+    return velocities, accelerations, durations
 
 
 def _time_single_waypoint(first: _FirstSegment, waypoints, guess: float) -> TimedTrajectory:

@@ -18,7 +18,7 @@ class StatusPublisher:
     def publish(self, enabled: bool, part_streams, base_streams) -> None:
         """Publishes when anything changed since the last time."""
         parts = tuple((stream.part, stream.action, stream.state.value, stream.yielding_to) for stream in part_streams)
-        parts += tuple((WHEELS_KEY, base.topic, base.status, base.yielding_to) for base in base_streams)
+        parts += tuple((WHEELS_KEY, base.topic, base.state.value, base.yielding_to) for base in base_streams)
         if (enabled, parts) == self._published:
             return
         self._published = (enabled, parts)

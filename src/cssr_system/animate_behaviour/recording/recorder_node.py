@@ -43,6 +43,7 @@ from cssr_system.animate_behaviour.recording.recording import (PLOT_FILE_NAME, R
                                                                bands_from_configuration_file, bands_from_log,
                                                                run_setting, unwrap_heading, write_recording,
                                                                yaw_from_quaternion)
+from cssr_system.animate_behaviour.rospy_compat import caller_of
 from cssr_system.pepper.joint_table import PARTS, WHEEL_JOINTS
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
 from cssr_system.pepper.trajectory_interpolation import TrajectoryPoint
@@ -54,20 +55,21 @@ _STATE_NAMES = {value: name for name, value in vars(GoalStatus).items()
                 if name.isupper() and isinstance(value, int)}
 
 
-def say(text: str) -> None:
-    print("%s: %s" % (NODE_NAME, text), flush=True)
+def say(text: str, node_name: str = NODE_NAME) -> None:
+    """One line for the person running the demo, ``<node_name>: <text>``, printed at once (under roslaunch
+    stdout is a pipe, which would hold it back). The demo's other nodes may print with their own name."""
+    print("%s: %s" % (node_name, text), flush=True)
 
 
 def goal_state_name(status: int) -> str:
     """actionlib's name of a goal status (actionlib_msgs/GoalStatus), e.g. SUCCEEDED or PREEMPTED."""
+    # Not GoalStatus.to_string: it names PENDING (0) "_has_header", the message class's False flag.
     return _STATE_NAMES.get(status, str(status))
 
 
-def caller_of(message: Any, goal_id: str) -> str:
-    """The node that published `message`: its connection header, else the goal id's prefix
-    (actionlib's ids are "<node>-<count>-<stamp>")."""
-    header = getattr(message, "_connection_header", None) or {}
-    return header.get("callerid") or goal_id.rsplit("-", 2)[0]
+def goal_id_caller(goal_id: str) -> str:
+    """The node that sent a goal, from its id alone: actionlib's ids are "<node>-<count>-<stamp>"."""
+    return goal_id.rsplit("-", 2)[0]
 
 
 class RunRecorder:
@@ -119,8 +121,9 @@ class RunRecorder:
         points = tuple(TrajectoryPoint(point.time_from_start.to_sec(), tuple(point.positions),
                                        tuple(point.velocities), tuple(point.accelerations))
                        for point in trajectory.points)
-        goal = SentGoal(self._now(), part, caller_of(message, message.goal_id.id), message.goal_id.id,
-                        tuple(trajectory.joint_names), points)
+        # Its publisher, else (a message whose connection header names none) its goal id's prefix.
+        sender = caller_of(message) or goal_id_caller(message.goal_id.id)
+        goal = SentGoal(self._now(), part, sender, message.goal_id.id, tuple(trajectory.joint_names), points)
         with self._lock:
             self.goals.append(goal)
 

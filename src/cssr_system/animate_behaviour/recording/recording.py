@@ -293,37 +293,57 @@ def bands_from_log(entries: Iterable[Any], since: Optional[float] = None,
     heading_bound = None  # type: Optional[float]
     configured_bound = None  # type: Optional[float]
     for entry in entries:
-        fields = entry.fields
         if entry.event == contract.CONFIGURATION_LOADED:
             # Read before the window too: the configuration is loaded before the run starts.
-            try:
-                configured_bound = float(fields.get("items", {}).get("headingBound"))
-            except (TypeError, ValueError):
-                configured_bound = None
+            configured_bound = _configured_heading_bound(entry.fields)
             continue
         if not _in_window(entry.timestamp, since, until):
             continue
-        if entry.event == contract.BEHAVIOUR_STARTED and fields.get("wheels"):
+        if entry.event == contract.BEHAVIOUR_STARTED and entry.fields.get("wheels"):
             heading_bound = configured_bound
-        purpose = fields.get("purpose", contract.PURPOSE_ANIMATE)
-        if entry.event != contract.GOAL_SENT or purpose != contract.PURPOSE_ANIMATE:
-            continue
-        joints = fields.get("joints") or []
-        lower = fields.get("lower") or []
-        upper = fields.get("upper") or []
-        centre = fields.get("centre") or []
-        moving = fields.get("moving") or [True] * len(joints)
-        if not (len(joints) == len(lower) == len(upper) == len(moving)):
-            continue  # a goal without bounds (homing): nothing to learn
-        for index, name in enumerate(joints):
-            middle = float(centre[index]) if index < len(centre) else (lower[index] + upper[index]) / 2.0
-            band = JointBand(float(lower[index]), float(upper[index]), middle, bool(moving[index]))
-            if name in bands:
-                known = bands[name]
-                band = JointBand(min(known.lower, band.lower), max(known.upper, band.upper),
-                                 known.centre, known.moving or band.moving)
-            bands[name] = band
+        for name, band in _animation_goal_bands(entry):
+            bands[name] = _hull(bands[name], band) if name in bands else band
     return bands, heading_bound
+
+
+def _configured_heading_bound(fields: Mapping[str, Any]) -> Optional[float]:
+    """The ``headingBound`` of a ``configuration_loaded`` entry's items; None when it has none or it is
+    not a number."""
+    try:
+        return float(fields.get("items", {}).get("headingBound"))
+    except (TypeError, ValueError):
+        return None
+
+
+def _animation_goal_bands(entry: Any) -> List[Tuple[str, JointBand]]:
+    """(joint, band) for each joint of an animating ``goal_sent`` entry; none for any other entry, and for
+    a goal that logs no bounds (homing). The centre is the logged one, else the middle of the band."""
+    fields = entry.fields
+    purpose = fields.get("purpose", contract.PURPOSE_ANIMATE)
+    if entry.event != contract.GOAL_SENT or purpose != contract.PURPOSE_ANIMATE:
+        return []
+    joints = fields.get("joints") or []
+    lower = fields.get("lower") or []
+    upper = fields.get("upper") or []
+    centre = fields.get("centre") or []
+    moving = fields.get("moving") or [True] * len(joints)
+    if not (len(joints) == len(lower) == len(upper) == len(moving)):
+        return []  # a goal without bounds (homing): nothing to learn
+    return [(name, _logged_band(index, lower, upper, centre, moving)) for index, name in enumerate(joints)]
+
+
+def _logged_band(index: int, lower: Sequence[float], upper: Sequence[float], centre: Sequence[float],
+                 moving: Sequence[bool]) -> JointBand:
+    """The band of the goal's joint at `index`: its logged centre, else the middle of its bounds."""
+    middle = float(centre[index]) if index < len(centre) else (lower[index] + upper[index]) / 2.0
+    return JointBand(float(lower[index]), float(upper[index]), middle, bool(moving[index]))
+
+
+def _hull(known: JointBand, band: JointBand) -> JointBand:
+    """The band of a joint whose bounds changed during the run (a reconfiguration): the hull of both, with
+    the first centre; moving when either moved."""
+    return JointBand(min(known.lower, band.lower), max(known.upper, band.upper), known.centre,
+                     known.moving or band.moving)
 
 
 def activations_from_log(entries: Iterable[Any], since: Optional[float] = None,
