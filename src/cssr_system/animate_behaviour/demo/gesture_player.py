@@ -23,7 +23,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.demo.gesture import (GESTURE_DURATION, GESTURE_PART, NODE_NAME, PLAY_TOPIC,
                                                         gesture_points)
-from cssr_system.animate_behaviour.recording.recorder_node import goal_state_name
+from cssr_system.animate_behaviour.node.goals import goal_state_name
 from cssr_system.animate_behaviour.recording.recording import run_setting
 from cssr_system.pepper.joint_table import PARTS
 

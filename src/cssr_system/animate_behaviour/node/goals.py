@@ -8,6 +8,7 @@ from typing import NamedTuple, Optional
 import actionlib
 import numpy
 import rospy
+from actionlib_msgs.msg import GoalStatus
 from control_msgs.msg import FollowJointTrajectoryAction, FollowJointTrajectoryActionGoal, FollowJointTrajectoryGoal
 from trajectory_msgs.msg import JointTrajectoryPoint
 
@@ -18,6 +19,14 @@ from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajecto
 from cssr_system.animate_behaviour.rospy_compat import ignore_feedback
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
+
+_STATE_NAMES = {value: name for name, value in vars(GoalStatus).items() if name.isupper() and isinstance(value, int)}
+
+
+def goal_state_name(status: int) -> str:
+    """actionlib's name of a goal status (actionlib_msgs/GoalStatus), e.g. SUCCEEDED or PREEMPTED."""
+    # Not GoalStatus.to_string: it names PENDING (0) "_has_header", the message class's False flag.
+    return _STATE_NAMES.get(status, str(status))
 
 
 def action_client(action: str) -> actionlib.ActionClient:

@@ -31,7 +31,7 @@ from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajecto
 from cssr_system.animate_behaviour.motion.waypoints import PartMotion
 from cssr_system.animate_behaviour.node.events import GoalDone
 from cssr_system.animate_behaviour.node.foreign_motion import COMMAND, DEFAULT_QUIET_TIME
-from cssr_system.animate_behaviour.node.goals import OutgoingGoal, RunningGoal, goal_message
+from cssr_system.animate_behaviour.node.goals import OutgoingGoal, RunningGoal, goal_message, goal_state_name
 from cssr_system.animate_behaviour.node.motion_stream import MotionStream, StreamState
 from cssr_system.pepper.joint_table import PARTS
 
@@ -140,7 +140,7 @@ class PartStream(MotionStream):
         sent = self._unfinished.pop(event.goal_number, None)
         if sent is None:
             return  # reported already
-        state_name = GoalStatus.to_string(event.state)
+        state_name = goal_state_name(event.state)
         reached = self._reached_its_end(sent, event)
         self._log.write(contract.GOAL_FINISHED, part=self.part, action=self.action, purpose=sent.purpose,
                         goal=event.goal_number, state=state_name, error_code=event.error_code,

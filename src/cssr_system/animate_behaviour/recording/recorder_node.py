@@ -28,7 +28,7 @@ from typing import Any, Dict, List, Optional, Tuple
 
 import numpy
 import rospy
-from actionlib_msgs.msg import GoalID, GoalStatus
+from actionlib_msgs.msg import GoalID
 from control_msgs.msg import FollowJointTrajectoryActionGoal, FollowJointTrajectoryActionResult
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
@@ -43,6 +43,7 @@ from cssr_system.animate_behaviour.recording.recording import (PLOT_FILE_NAME, R
                                                                bands_from_configuration_file, bands_from_log,
                                                                run_setting, unwrap_heading, write_recording,
                                                                yaw_from_quaternion)
+from cssr_system.animate_behaviour.node.goals import goal_state_name
 from cssr_system.animate_behaviour.rospy_compat import caller_of
 from cssr_system.pepper.joint_table import PARTS, WHEEL_JOINTS
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
@@ -51,20 +52,12 @@ from cssr_system.pepper.trajectory_interpolation import TrajectoryPoint
 NODE_NAME = "animateBehaviourRecorder"
 DEFAULT_FOLDER = "animateBehaviourDemo"  # in $ROS_HOME
 LOG_MARGIN = 1.0  # s: log entries this long before the recorder started still belong to the run
-_STATE_NAMES = {value: name for name, value in vars(GoalStatus).items()
-                if name.isupper() and isinstance(value, int)}
 
 
 def say(text: str, node_name: str = NODE_NAME) -> None:
     """One line for the person running the demo, ``<node_name>: <text>``, printed at once (under roslaunch
     stdout is a pipe, which would hold it back). The demo's other nodes may print with their own name."""
     print("%s: %s" % (node_name, text), flush=True)
-
-
-def goal_state_name(status: int) -> str:
-    """actionlib's name of a goal status (actionlib_msgs/GoalStatus), e.g. SUCCEEDED or PREEMPTED."""
-    # Not GoalStatus.to_string: it names PENDING (0) "_has_header", the message class's False flag.
-    return _STATE_NAMES.get(status, str(status))
 
 
 def goal_id_caller(goal_id: str) -> str:
