@@ -29,11 +29,7 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import load_configuration, topic_file_path
 from cssr_system.animate_behaviour.contract import NODE_NAME, REPLY_FAILURE, REPLY_SUCCESS, SERVICE_PATH
 from cssr_system.animate_behaviour.event_log import read_log
-from cssr_system.animate_behaviour.node.joint_state_batching import (BATCH_PERIOD, RATE_WINDOW, WAKE_AT_EACH_MESSAGE,
-                                                                     ReadBatching, set_low_water_mark,
-                                                                     subscription_connections)
-from cssr_system.animate_behaviour.node.joint_state_feed import REST_DELAY
-from cssr_system.animate_behaviour.node.joint_states import RAW_KEPT
+from cssr_system.animate_behaviour.node.joint_states import REST_DELAY
 from cssr_system.animate_behaviour.topics import WHEELS_KEY, load_topic_map
 from cssr_system.pepper.joint_table import JOINTS, PARTS, speed_limit
 from cssr_system.srv import setActivation
@@ -312,37 +308,6 @@ class AnimateBehaviourTest(unittest.TestCase):
         self.assertGreaterEqual(first.points[0].time_from_start.to_sec(),
                                 max(self.config.gesture_duration, shortest) - 1e-6,
                                 "the first segment starts from the measured position")
-
-    def test_joint_states_are_read_a_batch_at_a_time_and_none_is_lost(self):
-        # The node's own way of reading /joint_states (node/joint_state_batching.py), on a subscription of this
-        # test to the simulated Pepper's 50 Hz: after the rate is measured, rospy's thread wakes about once per
-        # BATCH_PERIOD and hands over every message it read. This process already listens to /joint_states
-        # (setUpClass), and rospy shares one connection per topic: its mark is put back at the end.
-        arrivals = []
-        subscription = rospy.Subscriber("/joint_states", rospy.AnyMsg, lambda _: arrivals.append(time.monotonic()),
-                                        queue_size=RAW_KEPT)
-        batching = ReadBatching(set_low_water_mark, lambda text: None)
-        try:
-            started = time.monotonic()
-            while time.monotonic() - started < RATE_WINDOW + 1.0:
-                batching.update(subscription_connections(subscription), time.monotonic())
-                time.sleep(0.1)
-            connections = subscription_connections(subscription)
-            self.assertEqual(len(connections), 1)
-            self.assertGreater(batching.mark(connections[0]), WAKE_AT_EACH_MESSAGE, "a 50 Hz publisher is batched")
-            del arrivals[:]
-            time.sleep(2.0)
-            received = list(arrivals)
-        finally:
-            for connection in subscription_connections(subscription):
-                set_low_water_mark(connection, WAKE_AT_EACH_MESSAGE)
-            subscription.unregister()
-        wakes = [at for previous, at in zip(received, received[1:]) if at - previous > 0.005]
-        self.assertGreater(len(received), 80, "every message of 2 s at 50 Hz is handed over")
-        self.assertLess(len(wakes), 40, "the reader wakes about once a batch, not at each message")
-        # Now and then a batch lasts two periods (node/joint_state_batching.py); the rest is a loaded machine's margin.
-        self.assertLess(max(later - earlier for earlier, later in zip(received, received[1:])), 4 * BATCH_PERIOD,
-                        "the latest measurement is never more than about two batches old")
 
     def test_joints_move_and_stay_in_bounds(self):
         seen = {}
