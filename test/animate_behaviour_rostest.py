@@ -169,7 +169,8 @@ class AnimateBehaviourTest(unittest.TestCase):
             times = [p.time_from_start.to_sec() for p in trajectory.points]
             self.assertGreater(times[0], 0.0)
             self.assertTrue(all(b > a for a, b in zip(times, times[1:])), "increasing times")
-            self.assertEqual(len(trajectory.points), self.config.num_points)
+            self.assertEqual(len(trajectory.points), self.config.num_points + 1, "the waypoints, then the hold")
+            self.assertEqual(trajectory.points[-1].positions, trajectory.points[-2].positions)
             for point in trajectory.points:
                 self.assertEqual(len(point.velocities), len(trajectory.joint_names))
                 self.assertEqual(len(point.accelerations), len(trajectory.joint_names))

@@ -7,11 +7,11 @@ after a disable (`HomePlanner`). `continuation_lead` tells the node when to send
 has ended (it ends at rest); a number of seconds, that long before its end (a continuous style: a goal that ended
 while moving would stop the robot abruptly).
 
-Goals that end at rest end with a hold (README: "Controllers: what each goal carries"): the last position again,
-SETTLE_TIME later. joint_trajectory_controller judges a goal at the first control update after its last point:
-every joint's velocity must then be within `stopped_velocity_tolerance` (0.01 rad/s by default). Hardware that
-measures velocity as a difference of positions still reports motion for one or two control periods after the
-command has stopped (up to 0.17 s at the robot driver's 12 Hz); after the hold it reports none. The goal's
+A goal that ends at rest is sent with a hold (`settled`; README: "Controllers: what each goal carries"): its last
+position again, SETTLE_TIME later. joint_trajectory_controller judges a goal at the first control update after its
+last point: every joint's velocity must then be within `stopped_velocity_tolerance` (0.01 rad/s by default).
+Hardware that measures velocity as a difference of positions still reports motion for one or two control periods
+after the command has stopped (up to 0.17 s at the robot driver's 12 Hz); after the hold it reports none. The goal's
 `goal_time_tolerance` (GOAL_TIME_TOLERANCE) gives joints that lag further (a simulator's velocity controllers) time
 to settle before the controller would abort.
 
@@ -40,8 +40,10 @@ class Planner:
 
 
 def settled(timed: TimedTrajectory) -> TimedTrajectory:
-    """`timed` with its last point held for SETTLE_TIME more (the point is at rest)."""
+    """`timed` with its last point held for SETTLE_TIME more, if it ends at rest (else `timed` itself)."""
     last = len(timed.times) - 1
+    if numpy.any(timed.velocities[last]) or numpy.any(timed.accelerations[last]):
+        return timed
     return TimedTrajectory(numpy.append(timed.times, timed.times[last] + SETTLE_TIME),
                            numpy.vstack([timed.positions, timed.positions[last:]]),
                            numpy.vstack([timed.velocities, numpy.zeros_like(timed.velocities[last:])]),
@@ -58,8 +60,8 @@ class RandomPlanner(Planner):
 
     def __call__(self, now, positions, velocities, accelerations) -> TimedTrajectory:
         waypoints = random_waypoints(self._motion, self._config, self._rng)
-        return settled(time_trajectory(waypoints, self._motion.joints, positions, velocities,
-                                       self._config.gesture_duration, start_accelerations=accelerations))
+        return time_trajectory(waypoints, self._motion.joints, positions, velocities, self._config.gesture_duration,
+                               start_accelerations=accelerations)
 
 
 class HomePlanner(Planner):
@@ -72,6 +74,5 @@ class HomePlanner(Planner):
 
     def __call__(self, now, positions, velocities, accelerations) -> TimedTrajectory:
         part = PARTS[self._part]
-        return settled(time_trajectory(numpy.array([part.centre]), part.joints, positions, velocities,
-                                       HOME_GESTURE_DURATION, start_accelerations=accelerations,
-                                       position_bounds=self._bounds))
+        return time_trajectory(numpy.array([part.centre]), part.joints, positions, velocities, HOME_GESTURE_DURATION,
+                               start_accelerations=accelerations, position_bounds=self._bounds)

@@ -14,7 +14,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.event_log import format_log_line, format_timestamp
-from cssr_system.animate_behaviour.motion.planners import GOAL_TIME_TOLERANCE, Planner
+from cssr_system.animate_behaviour.motion.planners import GOAL_TIME_TOLERANCE, Planner, settled
 from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory, to_points
 from cssr_system.animate_behaviour.rospy_compat import ignore_feedback
 from cssr_system.pepper.joint_table import PARTS
@@ -39,8 +39,9 @@ def action_client(action: str) -> actionlib.ActionClient:
 
 def goal_message(joints, timed: TimedTrajectory) -> FollowJointTrajectoryGoal:
     """The goal of a planned trajectory, to start as soon as it arrives. It carries positions, velocities and
-    accelerations (the controller plays quintics through them) and GOAL_TIME_TOLERANCE; no tolerances of its own,
-    so the controller's apply."""
+    accelerations (the controller plays quintics through them), a hold after a last point at rest
+    (`planners.settled`) and GOAL_TIME_TOLERANCE; no tolerances of its own, so the controller's apply."""
+    timed = settled(timed)
     goal = FollowJointTrajectoryGoal()
     goal.trajectory.joint_names = list(joints)
     goal.trajectory.header.stamp = rospy.Time(0)  # start now
@@ -84,7 +85,7 @@ class RunningGoal:
         self.number = number
         self.purpose = purpose
         self.handle = handle  # actionlib ClientGoalHandle
-        self.duration = float(outgoing.timed.times[-1])
+        self.duration = outgoing.goal.trajectory.points[-1].time_from_start.to_sec()  # with its hold
         self.start_time: Optional[float] = None
         self.end_time = float("inf")
         self.last_positions = numpy.array(outgoing.timed.positions[-1], dtype=float)
