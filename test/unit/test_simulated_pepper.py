@@ -8,7 +8,7 @@ from cssr_system.pepper.joint_table import (BASE_MAX_ANGULAR_ACCELERATION, BASE_
                                             BASE_MOVETO_ANGULAR_VELOCITY, BASE_MOVETO_SETTLE_TIME,
                                             BASE_VELOCITY_COMMAND_TIMEOUT, HEAD_PART, JOINTS, PARTS,
                                             WHEEL_JOINTS)
-from cssr_system.pepper.simulated_pepper import (INVALID_GOAL, INVALID_JOINTS, PLATFORMS, SUCCESSFUL,
+from cssr_system.pepper.simulated_pepper import (COMMANDED, INVALID_GOAL, INVALID_JOINTS, PLATFORMS, SUCCESSFUL,
                                                  GoalPoint, MoveToBase, SimulatedController, SimulatedPepper,
                                                  VelocityBase, action_namespace, base_topic, odometry_topic,
                                                  posture, yaw_quaternion)
@@ -18,7 +18,9 @@ EPSILON = 1e-9
 
 
 def leg_controller(now=0.0):
-    return SimulatedController("Pelvis_controller", LEG.joints, LEG.centre, now)
+    # These tests are about the motion commanded; COMMANDED hardware has no tracking error, so every goal succeeds
+    # at its end. test_controller_verdicts.py judges goals with the other velocity reports.
+    return SimulatedController("Pelvis_controller", LEG.joints, LEG.centre, now, velocity_report=COMMANDED)
 
 
 def point(time, positions, velocities=(), accelerations=()):
@@ -177,8 +179,8 @@ def test_a_new_goal_preempts_and_is_spliced_continuously():
     assert close(later.positions, before.positions + before.velocities * 1e-4, 1e-6)
     assert close(later.velocities, before.velocities, 1e-2)
     # The first goal never succeeds; the second does, at its own end.
-    assert controller.update(switch + 0.5) is None
-    outcome = controller.update(switch + 1.0)
+    assert controller.update(switch + 0.5) == []
+    [outcome] = controller.update(switch + 1.0)
     assert outcome.goal == "second" and outcome.error_code == SUCCESSFUL
     assert close(controller.state(switch + 1.0).positions, [-0.3, -0.2, 0.0])
 
@@ -207,7 +209,7 @@ def test_cancel_holds_at_once():
         state = controller.state(t)
         assert close(state.positions, moving.positions)
         assert close(state.velocities, [0.0] * 3)
-    assert controller.update(5.0) is None  # a canceled goal never succeeds
+    assert controller.update(5.0) == []  # a canceled goal never succeeds
     assert not controller.cancel("goal", 5.0)
 
 
@@ -219,17 +221,19 @@ def test_an_empty_trajectory_stops_and_succeeds():
     assert acceptance.accepted and acceptance.preempted_goal == "moving"
     assert close(controller.state(3.0).positions, held)
     assert close(controller.state(3.0).velocities, [0.0] * 3)
-    assert controller.update(1.0).goal == "stop"
+    assert controller.update(1.0) == []  # the update at 1.0 ran before the goal came
+    [outcome] = controller.update(1.02)  # the next one
+    assert (outcome.goal, outcome.error_code, outcome.time) == ("stop", SUCCESSFUL, pytest.approx(1.02))
 
 
 def test_success_comes_once_at_the_end():
     controller = leg_controller()
     controller.submit("goal", list(LEG.joints), [point(1.0, [0.1] * 3), point(2.0, [0.2] * 3)], 0.0)
     assert controller.goal_end_time == pytest.approx(2.0)
-    assert controller.update(1.99) is None
-    outcome = controller.update(2.0)
+    assert controller.update(1.99) == []
+    [outcome] = controller.update(2.0)
     assert (outcome.goal, outcome.error_code) == ("goal", SUCCESSFUL)
-    assert controller.update(2.1) is None and controller.active_goal is None
+    assert controller.update(2.1) == [] and controller.active_goal is None
     state = controller.state(3.0)
     assert close(state.positions, [0.2] * 3) and close(state.velocities, [0.0] * 3)
 
@@ -418,7 +422,7 @@ def test_joint_state_holds_every_joint_starting_at_rest(platform):
 
 
 def test_the_simulator_hands_stay_at_their_centre_and_commanded_joints_move():
-    pepper = SimulatedPepper("simulator", now=0.0)
+    pepper = SimulatedPepper("simulator", now=0.0, velocity_report=COMMANDED)  # reports exactly the command
     assert "RHand" not in pepper.controllers
     arm = pepper.controllers["RArm"]
     target = [1.0, -0.5, 0.5, 1.0, 0.0]

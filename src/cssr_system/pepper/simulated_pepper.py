@@ -4,22 +4,48 @@ scripts/simulatedPepper.py serves this model on the ROS interfaces of the robot 
 ``/pepper_dcm``) or of the Gazebo simulator (``/pepper``).  Every method takes the current time
 explicitly (seconds, any fixed origin), so the model is stepped and tested without a clock.
 
-Joint controllers (`SimulatedController`) mirror ros_controllers' joint_trajectory_controller:
+Joint controllers (`SimulatedController`) mirror ros_controllers' joint_trajectory_controller; each lists its
+joints in the robot's controller order (joint_table.CONTROLLER_JOINTS), which its states and feedback follow:
 
 - a goal must name exactly the controller's joints, in any order (else INVALID_JOINTS); every point
   carries one position per joint, velocities and accelerations are empty or one per joint, times
   strictly increase and every value is finite (else INVALID_GOAL);
-- an empty trajectory (that names the joints) stops: hold the current position, accept, succeed;
+- an empty trajectory (that names the joints) stops: hold the current position, accept, succeed at the
+  next update;
 - the trajectory starts at its stamp, or now when the stamp is None (a zero header stamp); points
   at or before the start are dropped, and a goal left with no point is rejected (INVALID_GOAL);
 - the first segment starts from the current desired state (position, velocity, acceleration), so a
   new goal is spliced smoothly onto the running motion; it preempts the active goal at once, and
   with a future stamp the old motion continues until the new one starts;
 - cancel holds the current position with zero velocity (instant stop);
-- the goal succeeds when its last point's time has come (a kinematic robot has no tracking error).
 - Joint limits: positions beyond the URDF limits are clamped (points at acceptance, and the sampled
   state, where a clamped joint has zero velocity and acceleration); each point value beyond a limit
   is reported as a `LimitViolation` and counted in `limit_violation_count`.
+
+The control loop.  A controller updates at `control_rate` Hz, at whole periods from its creation; only
+there does it judge its goal.  Each update reads the hardware, compares it with the desired state at that
+time (error = desired - reported) and writes the desired position.  The hardware follows the command
+exactly, so the position it reports at an update is the one written at the update before; the velocity
+it reports is, by `velocity_report`:
+  MEASURED   that position minus the one reported at the update before, over one period (as Gazebo does)
+  ZERO       always 0 (the physical robot's driver never fills in velocities)
+  COMMANDED  no tracking at all: position and velocity are exactly the desired state at the update (the
+             model's behaviour before it had a control loop; every goal then succeeds at its end).
+Events (goals, commands, cancels) first run the updates due before them.
+
+Verdicts, for goals only (a command-topic trajectory is never judged).  Tolerances per joint (position,
+velocity, acceleration; 0 = not checked, else |error| > tolerance is a violation; the acceleration error is
+always 0, the hardware reports no acceleration): on the path none by default, at the goal the velocity
+`stopped_velocity_tolerance`; the goal's path_tolerance and goal_tolerance override them per joint (> 0
+sets, < 0 unchecks, 0 keeps), its goal_time_tolerance overrides `goal_time` the same way (< 0 gives 0).
+- an update before the trajectory's end (from the goal's acceptance on) checks the path tolerances: a
+  violation aborts the goal with PATH_TOLERANCE_VIOLATED, "<joint> path error <position error>";
+- an update at or after the end checks the goal tolerances: a joint inside is marked done; when every joint
+  is done the goal succeeds; a joint outside at or after end + goal time aborts it with
+  GOAL_TOLERANCE_VIOLATED, "<joint> goal error <position error>" (six decimals, as the controller prints it).
+Past its end the desired state holds the last point with zero velocity, while the velocity MEASURED at the
+end is that of the last period before it: even a motion that ends at rest can fail the stopped velocity
+check, unless the goal time leaves a period or two to settle.  A verdict does not change the motion.
 
 Base (`MoveToBase`, `VelocityBase`): see their docstrings.  The heading is unwrapped (radians,
 counter-clockwise positive) and the base never translates.
@@ -34,8 +60,8 @@ from cssr_system.pepper.joint_table import (DRIVER_JOINT_PRECISION, DRIVER_RATE,
                                             ACTION_NAME, RELATIVE, wheels_command_kind,
                                             BASE_MAX_ANGULAR_ACCELERATION, BASE_MAX_ANGULAR_VELOCITY,
                                             BASE_MOVETO_ANGULAR_VELOCITY, BASE_MOVETO_SETTLE_TIME,
-                                            BASE_VELOCITY_COMMAND_TIMEOUT, CONTROLLER_NAMES, HEAD_PART,
-                                            JOINTS, PARTS, WHEEL_JOINTS, Part)
+                                            BASE_VELOCITY_COMMAND_TIMEOUT, CONTROLLER_JOINTS, CONTROLLER_NAMES,
+                                            HEAD_PART, JOINTS, PARTS, WHEEL_JOINTS, Part)
 from cssr_system.pepper.trajectory_interpolation import (JointTrajectorySpline, TrajectoryError,
                                                          TrajectoryPoint)
 
@@ -43,6 +69,18 @@ from cssr_system.pepper.trajectory_interpolation import (JointTrajectorySpline, 
 SUCCESSFUL = 0
 INVALID_GOAL = -1
 INVALID_JOINTS = -2
+PATH_TOLERANCE_VIOLATED = -4
+GOAL_TOLERANCE_VIOLATED = -5
+
+# What the hardware reports as a joint's velocity (module docstring).
+MEASURED, COMMANDED, ZERO = "measured", "commanded", "zero"
+VELOCITY_REPORTS = (MEASURED, COMMANDED, ZERO)
+# The controllers' defaults: the rate of their control loop, and the constraints Pepper's configuration leaves
+# at the controller's own defaults.
+CONTROL_RATE = 50.0  # Hz (the robot's driver runs its controllers at DRIVER_RATE)
+GOAL_TIME = 0.0  # s after a trajectory's end allowed to get inside the goal tolerances
+STOPPED_VELOCITY_TOLERANCE = 0.01  # rad/s: the goal's velocity tolerance of every joint
+_DUE_MARGIN = 1e-9  # s: an update a rounding error after `now` is still due at `now`
 
 # Base command kinds.
 
@@ -92,7 +130,8 @@ def odometry_topic(platform: Platform) -> str:
 
 
 def posture(key: str, name: str = "rest") -> Tuple[float, ...]:
-    """Initial positions of a part: its centre ("rest") or the URDF zero clamped into the limits."""
+    """Initial positions of a part (joint_table.PARTS order): its centre ("rest") or the URDF zero clamped into
+    the limits."""
     if name == "rest":
         return tuple(part(key).centre)
     if name == "zero":
@@ -100,8 +139,14 @@ def posture(key: str, name: str = "rest") -> Tuple[float, ...]:
     raise ValueError("unknown posture {!r} (expected one of: {})".format(name, ", ".join(POSTURES)))
 
 
+def controller_posture(key: str, name: str = "rest") -> Tuple[float, ...]:
+    """`posture` in the order of the controller's joints (joint_table.CONTROLLER_JOINTS)."""
+    by_name = dict(zip(part(key).joints, posture(key, name)))
+    return tuple(by_name[joint] for joint in CONTROLLER_JOINTS[key])
+
+
 class JointTrajectoryState(NamedTuple):
-    """Desired (= actual: the robot is kinematic) state of a controller's joints, controller order."""
+    """Positions, velocities and accelerations of a controller's joints, in the controller's order."""
 
     positions: numpy.ndarray
     velocities: numpy.ndarray
@@ -115,6 +160,26 @@ class GoalPoint(NamedTuple):
     positions: Sequence[float]
     velocities: Sequence[float] = ()
     accelerations: Sequence[float] = ()
+
+
+class JointTolerance(NamedTuple):
+    """One joint's tolerances asked by a goal, as control_msgs/JointTolerance: a value > 0 sets that tolerance,
+    < 0 leaves it unchecked, 0 keeps the controller's."""
+
+    name: str
+    position: float = 0.0
+    velocity: float = 0.0
+    acceleration: float = 0.0
+
+
+class GoalTolerances(NamedTuple):
+    """The tolerances a goal carries: path_tolerance and goal_tolerance (JointTolerance, or anything with the same
+    fields; joints the controller lacks are ignored) and goal_time_tolerance (s: > 0 sets it, < 0 makes it 0,
+    0 keeps the controller's goal_time)."""
+
+    path: Sequence[Any] = ()
+    goal: Sequence[Any] = ()
+    goal_time: float = 0.0
 
 
 class LimitViolation(NamedTuple):
@@ -135,11 +200,76 @@ class Acceptance(NamedTuple):
 
 
 class GoalOutcome(NamedTuple):
-    """A goal that ended by itself (succeeded)."""
+    """A goal that ended by itself: SUCCESSFUL, or aborted (PATH_ or GOAL_TOLERANCE_VIOLATED)."""
 
     goal: Any
     error_code: int
     error_string: str
+    time: float = 0.0  # the update that decided it
+
+
+class ControllerUpdate(NamedTuple):
+    """One update of the control loop: its time, the desired state and what the hardware reported (which has
+    no accelerations: zeros)."""
+
+    time: float
+    desired: JointTrajectoryState
+    actual: JointTrajectoryState
+
+    @property
+    def error(self) -> JointTrajectoryState:
+        """desired - actual; the acceleration error is 0, as nothing measures accelerations."""
+        return JointTrajectoryState(self.desired.positions - self.actual.positions,
+                                    self.desired.velocities - self.actual.velocities,
+                                    numpy.zeros(len(self.desired.positions)))
+
+
+class _Constraints(NamedTuple):
+    """The tolerances one goal is judged by: (joints, 3) arrays of position, velocity and acceleration
+    tolerances, 0 where unchecked, and the goal time (s)."""
+
+    path: numpy.ndarray
+    goal: numpy.ndarray
+    goal_time: float
+
+
+def _override(current: float, requested: float) -> float:
+    """A tolerance after a goal's request: > 0 replaces it, < 0 unchecks it (0), 0 keeps it."""
+    if requested > 0.0:
+        return float(requested)
+    if requested < 0.0:
+        return 0.0
+    return current
+
+
+def _override_rows(table: numpy.ndarray, index: Dict[str, int], requests: Sequence[Any]) -> None:
+    for request in requests:
+        row = index.get(request.name)
+        if row is None:
+            continue
+        for column, value in enumerate((request.position, request.velocity, request.acceleration)):
+            table[row, column] = _override(table[row, column], value)
+
+
+def _violated(tolerances: numpy.ndarray, error: JointTrajectoryState) -> numpy.ndarray:
+    """Per joint: whether some checked tolerance (> 0) is smaller than its |error|."""
+    errors = numpy.column_stack((error.positions, error.velocities, error.accelerations))
+    return numpy.any((tolerances > 0.0) & (numpy.abs(errors) > tolerances), axis=1)
+
+
+def check_loop_settings(control_rate: float, velocity_report: str, goal_time: float,
+                        stopped_velocity_tolerance: float) -> None:
+    """ValueError naming the first setting of a controller's loop that is out of range."""
+    for name, value, lowest, inclusive in (("control_rate", control_rate, 0.0, False),
+                                           ("goal_time", goal_time, 0.0, True),
+                                           ("stopped_velocity_tolerance", stopped_velocity_tolerance, 0.0, True)):
+        number = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+        if not number or value < lowest or (value == lowest and not inclusive):
+            raise ValueError("{} must be a finite number {} {:g} (got {!r})".format(
+                name, ">=" if inclusive else ">", lowest, value))
+    if velocity_report not in VELOCITY_REPORTS:
+        raise ValueError("velocity_report must be one of {} (got {!r})".format(", ".join(VELOCITY_REPORTS),
+                                                                               velocity_report))
 
 
 class _Hold:
@@ -155,13 +285,17 @@ class _Hold:
 
 
 class SimulatedController:
-    """One FollowJointTrajectory controller (module docstring); goals are opaque tokens compared by ==."""
+    """One FollowJointTrajectory controller and its control loop (module docstring); goals are opaque tokens
+    compared by ==. Time only runs forward: each event's `now` is no earlier than the previous one's."""
 
     def __init__(self, name: str, joint_names: Sequence[str], initial_positions: Sequence[float],
-                 now: float = 0.0) -> None:
+                 now: float = 0.0, control_rate: float = CONTROL_RATE, velocity_report: str = MEASURED,
+                 goal_time: float = GOAL_TIME,
+                 stopped_velocity_tolerance: float = STOPPED_VELOCITY_TOLERANCE) -> None:
         if len(joint_names) != len(initial_positions):
             raise ValueError("{}: {} joints but {} initial positions".format(
                 name, len(joint_names), len(initial_positions)))
+        check_loop_settings(control_rate, velocity_report, goal_time, stopped_velocity_tolerance)
         self.name = name
         self.joint_names: Tuple[str, ...] = tuple(joint_names)
         self._index = {joint: index for index, joint in enumerate(self.joint_names)}
@@ -173,6 +307,19 @@ class SimulatedController:
         self.active_goal: Any = None
         self._goal_end_time = now
         self.limit_violation_count = 0
+        self.control_rate = float(control_rate)
+        self.velocity_report = velocity_report
+        self.goal_time = float(goal_time)
+        self.stopped_velocity_tolerance = float(stopped_velocity_tolerance)
+        # The loop: updates at _origin + k / control_rate; the hardware starts at rest where the motion starts.
+        self._origin = now
+        self._updates = 0
+        at_rest = JointTrajectoryState(start.copy(), numpy.zeros(len(start)), numpy.zeros(len(start)))
+        self._last = ControllerUpdate(now, at_rest, at_rest)
+        self._written = start.copy()  # the position command of the last update
+        self._constraints: Optional[_Constraints] = None
+        self._done = numpy.zeros(len(start), dtype=bool)  # joints found inside the goal tolerances
+        self._outcomes: List[GoalOutcome] = []  # decided, not yet returned by update()
 
     # -- state -------------------------------------------------------------------------------
     def state(self, now: float) -> JointTrajectoryState:
@@ -193,9 +340,26 @@ class SimulatedController:
             accelerations[clamped] = 0.0
         return JointTrajectoryState(positions, velocities, accelerations)
 
+    def reported_state(self, now: float) -> JointTrajectoryState:
+        """What the hardware reports at `now`: with COMMANDED the desired state at `now`; otherwise what the last
+        update due by `now` read (positions, velocities; accelerations are zeros)."""
+        self._catch_up(now)
+        if self.velocity_report == COMMANDED:
+            return self.state(now)
+        return self._last.actual
+
+    @property
+    def control_period(self) -> float:
+        return 1.0 / self.control_rate
+
+    @property
+    def last_update(self) -> ControllerUpdate:
+        """The latest update run (its time may be the creation time: none yet)."""
+        return self._last
+
     @property
     def goal_end_time(self) -> Optional[float]:
-        """When the active goal will succeed, or None without an active goal."""
+        """When the active goal's trajectory ends, or None without an active goal."""
         return self._goal_end_time if self.active_goal is not None else None
 
     # -- goals ---------------------------------------------------------------------------------
@@ -203,51 +367,55 @@ class SimulatedController:
         """(SUCCESSFUL, "") or the error code and text that reject this trajectory."""
         names = list(joint_names)
         if len(names) != len(self.joint_names) or set(names) != set(self.joint_names):
-            missing = [joint for joint in self.joint_names if joint not in names]
-            extra = sorted(set(joint for joint in names if joint not in self._index))
-            duplicated = sorted(set(joint for joint in names if names.count(joint) > 1))
-            problems = []
-            if missing:
-                problems.append("missing " + ", ".join(missing))
-            if extra:
-                problems.append("unknown " + ", ".join(extra))
-            if duplicated:
-                problems.append("repeated " + ", ".join(duplicated))
-            return INVALID_JOINTS, "{}: joints must be exactly {} ({})".format(
-                self.name, ", ".join(self.joint_names), "; ".join(problems))
-        size = len(self.joint_names)
+            return INVALID_JOINTS, self._joint_problems(names)
         previous_time = None
         for index, point in enumerate(points):
-            if len(point.positions) != size:
-                return INVALID_GOAL, "{}: point {} has {} positions, expected {}".format(
-                    self.name, index, len(point.positions), size)
-            for field in ("velocities", "accelerations"):
-                values = getattr(point, field) or ()
-                if len(values) not in (0, size):
-                    return INVALID_GOAL, "{}: point {} has {} {}, expected 0 or {}".format(
-                        self.name, index, len(values), field, size)
-            values = list(point.positions) + list(point.velocities or ()) + list(point.accelerations or ())
-            if not all(math.isfinite(value) for value in values + [point.time_from_start]):
-                return INVALID_GOAL, "{}: point {} holds a value that is not finite".format(self.name, index)
-            if previous_time is not None and not point.time_from_start > previous_time:
-                return INVALID_GOAL, ("{}: time_from_start must increase strictly: point {} at {:.6g} s "
-                                      "follows {:.6g} s").format(self.name, index, point.time_from_start,
-                                                                 previous_time)
+            problem = self._point_problem(index, point, previous_time)
+            if problem:
+                return INVALID_GOAL, problem
             previous_time = point.time_from_start
         return SUCCESSFUL, ""
 
+    def _joint_problems(self, names: List[str]) -> str:
+        missing = [joint for joint in self.joint_names if joint not in names]
+        extra = sorted(set(joint for joint in names if joint not in self._index))
+        duplicated = sorted(set(joint for joint in names if names.count(joint) > 1))
+        problems = ["{} {}".format(word, ", ".join(joints))
+                    for word, joints in (("missing", missing), ("unknown", extra), ("repeated", duplicated))
+                    if joints]
+        return "{}: joints must be exactly {} ({})".format(self.name, ", ".join(self.joint_names), "; ".join(problems))
+
+    def _point_problem(self, index: int, point: GoalPoint, previous_time: Optional[float]) -> str:
+        """Why point `index` is invalid, or ""."""
+        size = len(self.joint_names)
+        if len(point.positions) != size:
+            return "{}: point {} has {} positions, expected {}".format(self.name, index, len(point.positions), size)
+        for field in ("velocities", "accelerations"):
+            values = getattr(point, field) or ()
+            if len(values) not in (0, size):
+                return "{}: point {} has {} {}, expected 0 or {}".format(self.name, index, len(values), field, size)
+        values = list(point.positions) + list(point.velocities or ()) + list(point.accelerations or ())
+        if not all(math.isfinite(value) for value in values + [point.time_from_start]):
+            return "{}: point {} holds a value that is not finite".format(self.name, index)
+        if previous_time is not None and not point.time_from_start > previous_time:
+            return ("{}: time_from_start must increase strictly: point {} at {:.6g} s follows {:.6g} s").format(
+                self.name, index, point.time_from_start, previous_time)
+        return ""
+
     def submit(self, goal: Any, joint_names: Sequence[str], points: Sequence[GoalPoint], now: float,
-               stamp: Optional[float] = None) -> Acceptance:
-        """Accept `goal` (it becomes the active goal, preempting the previous one) or reject it."""
+               stamp: Optional[float] = None, tolerances: Optional[GoalTolerances] = None) -> Acceptance:
+        """Accept `goal` (it becomes the active goal, preempting the previous one) or reject it. The updates due
+        by `now` run first. `tolerances`: what the goal asks of its verdict (None: the controller's defaults)."""
+        self._catch_up(now)
         error_code, error_string = self.validate(joint_names, points)
         if error_code != SUCCESSFUL:
             return Acceptance(False, error_code, error_string)
         start_time = now if stamp is None else max(stamp, now)
-        if not points:  # the controller's "stop" command
+        if not points:  # the controller's "stop" command: its hold checks nothing, so it succeeds at once
             self._replace_from(now, _Hold(self.state(now).positions, now))
-            return self._activate(goal, now, ())
+            unchecked = numpy.zeros((len(self.joint_names), 3))
+            return self._activate(goal, now, (), _Constraints(unchecked, unchecked, 0.0))
         trajectory_start = now if stamp is None else stamp
-        order = [list(joint_names).index(joint) for joint in self.joint_names]
         kept = [(index, point) for index, point in enumerate(points)
                 if trajectory_start + point.time_from_start > start_time]
         if not kept:
@@ -255,21 +423,8 @@ class SimulatedController:
                 "{}: all {} point(s) are at or before the start time (last point {:.3f} s before it)").format(
                 self.name, len(points),
                 start_time - trajectory_start - points[-1].time_from_start))
-        violations: List[LimitViolation] = []
-        spline_points = []
-        for index, point in kept:
-            positions = numpy.array([point.positions[i] for i in order], dtype=float)
-            for joint_index, value in enumerate(positions):
-                lower, upper = self._lower[joint_index], self._upper[joint_index]
-                if value < lower or value > upper:
-                    violations.append(LimitViolation(self.joint_names[joint_index], float(value),
-                                                     float(lower if value < lower else upper), index))
-            positions = numpy.clip(positions, self._lower, self._upper)
-            velocities = [point.velocities[i] for i in order] if len(point.velocities or ()) else None
-            accelerations = [point.accelerations[i] for i in order] if len(point.accelerations or ()) else None
-            # The spline counts time from start_time, which may be later than the trajectory's start.
-            spline_points.append(TrajectoryPoint(trajectory_start + point.time_from_start - start_time,
-                                                 positions, velocities, accelerations))
+        # The spline counts time from start_time, which may be later than the trajectory's start.
+        spline_points, violations = self._spline_points(joint_names, kept, trajectory_start - start_time)
         start = self.state(start_time)
         try:
             spline = JointTrajectorySpline(start.positions, start.velocities, start.accelerations, spline_points,
@@ -278,34 +433,143 @@ class SimulatedController:
             return Acceptance(False, INVALID_GOAL, "{}: {}".format(self.name, error))
         self._replace_from(start_time, spline, now)
         self.limit_violation_count += len(violations)
-        return self._activate(goal, spline.end_time, tuple(violations))
+        return self._activate(goal, spline.end_time, tuple(violations), self._constraints_for(tolerances))
+
+    def _spline_points(self, joint_names: Sequence[str], kept: Sequence[Tuple[int, GoalPoint]],
+                       offset: float) -> Tuple[List[TrajectoryPoint], List[LimitViolation]]:
+        """The kept points in the controller's joint order, clamped into the limits, at time_from_start + offset;
+        and the values that were beyond a limit."""
+        order = [list(joint_names).index(joint) for joint in self.joint_names]
+        violations: List[LimitViolation] = []
+        spline_points = []
+        for index, point in kept:
+            positions = numpy.array([point.positions[i] for i in order], dtype=float)
+            beyond = (positions < self._lower) | (positions > self._upper)
+            for joint_index in numpy.flatnonzero(beyond):
+                value = positions[joint_index]
+                limit = self._lower[joint_index] if value < self._lower[joint_index] else self._upper[joint_index]
+                violations.append(LimitViolation(self.joint_names[joint_index], float(value), float(limit), index))
+            positions = numpy.clip(positions, self._lower, self._upper)
+            velocities = [point.velocities[i] for i in order] if len(point.velocities or ()) else None
+            accelerations = [point.accelerations[i] for i in order] if len(point.accelerations or ()) else None
+            spline_points.append(TrajectoryPoint(point.time_from_start + offset, positions, velocities, accelerations))
+        return spline_points, violations
+
+    def _constraints_for(self, tolerances: Optional[GoalTolerances]) -> _Constraints:
+        """The controller's default tolerances, overridden by what the goal asks."""
+        path = numpy.zeros((len(self.joint_names), 3))
+        goal = numpy.zeros((len(self.joint_names), 3))
+        goal[:, 1] = self.stopped_velocity_tolerance
+        if tolerances is None:
+            return _Constraints(path, goal, self.goal_time)
+        _override_rows(path, self._index, tolerances.path)
+        _override_rows(goal, self._index, tolerances.goal)
+        return _Constraints(path, goal, _override(self.goal_time, tolerances.goal_time))
 
     def command(self, joint_names: Sequence[str], points: Sequence[GoalPoint], now: float,
                 stamp: Optional[float] = None) -> Acceptance:
         """A trajectory on the controller's command topic: obeyed like a goal, but it has no goal handle, no
-        result and no status. It preempts the active goal (`Acceptance.preempted_goal`) and is spliced the same way."""
+        result, no status and no verdict. It preempts the active goal (`Acceptance.preempted_goal`) and is spliced
+        the same way."""
         return self.submit(None, joint_names, points, now, stamp)
 
     def cancel(self, goal: Any, now: float) -> bool:
-        """Stop at once if `goal` is the active goal (True); anything else changes nothing (False)."""
+        """Stop at once if `goal` is the active goal (True); anything else changes nothing (False). The updates
+        due by `now` run first, so a goal they ended is no longer active."""
+        self._catch_up(now)
         if self.active_goal is None or not self.active_goal == goal:
             return False
         self._replace_from(now, _Hold(self.state(now).positions, now))
-        self.active_goal = None
+        self.active_goal, self._constraints = None, None
         return True
 
-    def update(self, now: float) -> Optional[GoalOutcome]:
-        """The active goal's success when its end has come, else None."""
+    def update(self, now: float) -> List[GoalOutcome]:
+        """Run the control updates due by `now`: the goals that ended since the last call, in order."""
+        self._catch_up(now)
         self._prune(now)
-        if self.active_goal is not None and now >= self._goal_end_time:
-            outcome = GoalOutcome(self.active_goal, SUCCESSFUL, "")
-            self.active_goal = None
-            return outcome
-        return None
+        outcomes, self._outcomes = self._outcomes, []
+        return outcomes
 
-    def _activate(self, goal: Any, end_time: float, violations: Tuple[LimitViolation, ...]) -> Acceptance:
+    def _activate(self, goal: Any, end_time: float, violations: Tuple[LimitViolation, ...],
+                  constraints: _Constraints) -> Acceptance:
         preempted, self.active_goal, self._goal_end_time = self.active_goal, goal, end_time
+        self._constraints = constraints if goal is not None else None
+        self._done = numpy.zeros(len(self.joint_names), dtype=bool)
         return Acceptance(True, SUCCESSFUL, "", preempted, violations)
+
+    # -- the control loop ------------------------------------------------------------------------
+    def _update_time(self, count: int) -> float:
+        return self._origin + count / self.control_rate
+
+    def _catch_up(self, now: float) -> None:
+        """Run every update due by `now` that has not run yet."""
+        while self._update_time(self._updates + 1) <= now + _DUE_MARGIN:
+            if self._idle():
+                self._skip_to(now)
+                return
+            self._updates += 1
+            self._run_update(self._update_time(self._updates))
+
+    def _run_update(self, time: float) -> None:
+        """Read the hardware, judge the active goal, write the desired position."""
+        desired = self.state(time)
+        self._last = ControllerUpdate(time, desired, self._read(desired))
+        self._judge(self._last)
+        self._written = desired.positions
+        self._prune(time)
+
+    def _read(self, desired: JointTrajectoryState) -> JointTrajectoryState:
+        """What the hardware reports at an update whose desired state is `desired`."""
+        zeros = numpy.zeros(len(self.joint_names))
+        if self.velocity_report == COMMANDED:
+            return JointTrajectoryState(desired.positions.copy(), desired.velocities.copy(), zeros)
+        positions = self._written.copy()  # the joints went exactly where the last update sent them
+        if self.velocity_report == MEASURED:
+            return JointTrajectoryState(positions, (positions - self._last.actual.positions) / self.control_period,
+                                        zeros)
+        return JointTrajectoryState(positions, zeros.copy(), zeros)
+
+    def _judge(self, update: ControllerUpdate) -> None:
+        """The active goal's verdict at this update, if it has one (module docstring)."""
+        if self.active_goal is None or self._constraints is None:
+            return
+        error = update.error
+        if update.time < self._goal_end_time:
+            violated = _violated(self._constraints.path, error)
+            if violated.any():
+                self._finish(PATH_TOLERANCE_VIOLATED, "path", int(numpy.argmax(violated)), error, update.time)
+            return
+        outside = _violated(self._constraints.goal, error)
+        self._done |= ~outside
+        if outside.any() and update.time >= self._goal_end_time + self._constraints.goal_time:
+            self._finish(GOAL_TOLERANCE_VIOLATED, "goal", int(numpy.argmax(outside)), error, update.time)
+        elif self._done.all():
+            self._finish(SUCCESSFUL, "", 0, error, update.time)
+
+    def _finish(self, error_code: int, kind: str, joint_index: int, error: JointTrajectoryState,
+                time: float) -> None:
+        error_string = "" if error_code == SUCCESSFUL else "{} {} error {:f}".format(
+            self.joint_names[joint_index], kind, error.positions[joint_index])  # printed as the controller does
+        self._outcomes.append(GoalOutcome(self.active_goal, error_code, error_string, time))
+        self.active_goal, self._constraints = None, None
+
+    def _idle(self) -> bool:
+        """Whether further updates would change nothing: no goal, nothing planned but a hold that began by the
+        last update, and the hardware reading it at rest."""
+        if self.active_goal is not None or len(self._pieces) != 1 or self._pieces[0][0] > self._last.time:
+            return False
+        desired, actual = self._last.desired, self._last.actual
+        return (isinstance(self._pieces[0][1], _Hold) and numpy.array_equal(actual.positions, desired.positions)
+                and numpy.array_equal(self._written, desired.positions)
+                and not actual.velocities.any() and not desired.velocities.any())
+
+    def _skip_to(self, now: float) -> None:
+        """Idle: count the updates due by `now` as run, without running them."""
+        count = int(math.floor((now - self._origin) * self.control_rate + 1e-6))
+        if self._update_time(count) > now + _DUE_MARGIN:
+            count -= 1
+        self._updates = max(self._updates, count)
+        self._last = self._last._replace(time=self._update_time(self._updates))
 
     def _replace_from(self, switch_time: float, sampler: Any, now: Optional[float] = None) -> None:
         """Run `sampler` from switch_time on, dropping whatever was planned from then."""
@@ -514,17 +778,23 @@ class NaoqiDcmDriver:
 
 class SimulatedPepper:
     """All controllers of a platform, the fixed joints, and the base; with `driver` NAOQI_DCM, the joints move as
-    the physical robot's driver moves them (`NaoqiDcmDriver`), otherwise exactly as the controllers command."""
+    the physical robot's driver moves them (`NaoqiDcmDriver`), otherwise as the controllers' hardware reports them
+    (`velocity_report`). `control_rate`, `velocity_report`, `goal_time` and `stopped_velocity_tolerance` apply to
+    every controller (`SimulatedController`), which judges its goals on its own hardware, the driver or not."""
 
     def __init__(self, platform: str = "robot", initial_posture: str = "rest", now: float = 0.0,
-                 moveto_keep_latest: bool = False, driver: str = IDEAL) -> None:
+                 moveto_keep_latest: bool = False, driver: str = IDEAL, control_rate: float = CONTROL_RATE,
+                 velocity_report: str = MEASURED, goal_time: float = GOAL_TIME,
+                 stopped_velocity_tolerance: float = STOPPED_VELOCITY_TOLERANCE) -> None:
         if driver not in DRIVERS:
             raise ValueError("unknown driver {!r} (expected one of: {})".format(driver, ", ".join(DRIVERS)))
         if platform not in PLATFORMS:
             raise ValueError("unknown platform {!r} (expected one of: {})".format(platform, ", ".join(PLATFORMS)))
         self.platform = PLATFORMS[platform]
         self.controllers: Dict[str, SimulatedController] = OrderedDict(
-            (key, SimulatedController(CONTROLLER_NAMES[key], part(key).joints, posture(key, initial_posture), now))
+            (key, SimulatedController(CONTROLLER_NAMES[key], CONTROLLER_JOINTS[key],
+                                      controller_posture(key, initial_posture), now, control_rate, velocity_report,
+                                      goal_time, stopped_velocity_tolerance))
             for key in self.platform.controller_keys)
         # Joints no controller drives (the simulator's hands) stay at their centre; wheels at 0.
         self._fixed = {joint: position
@@ -541,31 +811,30 @@ class SimulatedPepper:
             self.base = VelocityBase(now=now)
 
     def update(self, now: float) -> List[Tuple[str, GoalOutcome]]:
-        """Step every controller: the goals that succeeded, with their controller keys."""
-        outcomes = []
-        for key, controller in self.controllers.items():
-            outcome = controller.update(now)
-            if outcome is not None:
-                outcomes.append((key, outcome))
-        return outcomes
+        """Run every controller's updates due by `now`: the goals that ended, with their controller keys."""
+        return [(key, outcome) for key, controller in self.controllers.items() for outcome in controller.update(now)]
 
     def joint_state(self, now: float) -> JointStateSample:
-        """Position and velocity of every joint (JOINTS order, then the wheels): what the robot does."""
-        commanded = self.commanded_state(now)
+        """Position and velocity of every joint (JOINTS order, then the wheels): what the robot reports. With the
+        robot's driver modelled, what it executes of the controllers' commands."""
         if self.driver is None:
-            return commanded
+            return self._sample(now, lambda controller: controller.reported_state(now))
+        commanded = self.commanded_state(now)
         count = len(JOINTS)
         positions, velocities = self.driver.update(commanded.positions[:count], now)
         return JointStateSample(commanded.names, positions.tolist() + commanded.positions[count:],
                                 velocities.tolist() + commanded.velocities[count:])
 
     def commanded_state(self, now: float) -> JointStateSample:
-        """What the controllers command for every joint (JOINTS order, then the wheels)."""
+        """What the controllers command for every joint (JOINTS order, then the wheels): their desired state."""
+        return self._sample(now, lambda controller: controller.state(now))
+
+    def _sample(self, now: float, state_of) -> JointStateSample:
         positions = dict((joint, 0.0) for joint in WHEEL_JOINTS)
         velocities = dict((joint, 0.0) for joint in self.joint_names)
         positions.update(self._fixed)
         for controller in self.controllers.values():
-            state = controller.state(now)
+            state = state_of(controller)
             positions.update(zip(controller.joint_names, state.positions.tolist()))
             velocities.update(zip(controller.joint_names, state.velocities.tolist()))
         return JointStateSample(self.joint_names, [positions[joint] for joint in self.joint_names],

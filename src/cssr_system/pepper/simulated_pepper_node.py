@@ -8,21 +8,36 @@ Parameters (private):
   ~initial_posture     "rest" (default: every part at its centre, head 0) or "zero"
   ~moveto_keep_latest  false (default): cmd_moveto commands arriving while the base turns or settles are
                        dropped; true: the latest of them runs when the base is free (a queue of one)
-  ~feedback_rate       Hz of action feedback for active goals (default 10; 0: none)
+  ~feedback_rate       Hz of action feedback for active goals (default 10; 0: none): the last control update's
+                       desired and reported state and their difference, in the controller's joint order
   ~driver              "ideal" (default: the joints move exactly as the controllers command) or "naoqi_dcm" (as the
                        physical robot's driver moves them: 12 Hz writes, 0.09 rad dead band, 20 % speed)
+  ~control_rate        Hz of the controllers' control loop, whose updates judge the goals (default 50; the robot's
+                       driver runs its controllers at 12)
+  ~velocity_report     the joint velocity the controllers' hardware reports: "measured" (default: the change of the
+                       reported position over one control period, as Gazebo), "zero" (as the robot's driver) or
+                       "commanded" (position and velocity exactly as desired: no tracking error, every goal succeeds)
+  ~goal_time           s after a trajectory's end allowed to get inside the goal tolerances (default 0.0), unless
+                       the goal sets goal_time_tolerance
+  ~stopped_velocity_tolerance  velocity tolerance of every joint at the end of a goal (default 0.01; 0: unchecked),
+                       unless the goal sets its own goal_tolerance
+  Goals are judged as joint_trajectory_controller judges them (cssr_system.pepper.simulated_pepper): they succeed,
+  or abort with PATH_TOLERANCE_VIOLATED or GOAL_TOLERANCE_VIOLATED.
 Serves:
   <ns>/<Name>_controller/follow_joint_trajectory   control_msgs/FollowJointTrajectory (ActionServer)
   <ns>/<Name>_controller/command                   trajectory_msgs/JointTrajectory (subscribed, obeyed like a goal)
   <ns>/cmd_moveto or <ns>/cmd_vel                  geometry_msgs/Twist (subscribed)
 Publishes:
-  /joint_states        sensor_msgs/JointState, 50 Hz, every joint and the wheels
+  /joint_states        sensor_msgs/JointState, 50 Hz, every joint and the wheels, as the controllers' hardware reports
+                       them at their latest update (~velocity_report; with "commanded", the desired state now;
+                       with ~driver naoqi_dcm, what the driver executes)
   <ns>/odom            nav_msgs/Odometry, 50 Hz, base heading (frame odom, child base_footprint)
   ~limit_violations    std_msgs/UInt32, latched: goal point values beyond a joint limit so far
   ~commanded_joint_states  sensor_msgs/JointState, 50 Hz, with ~driver naoqi_dcm: what the controllers command
 """
 import functools
 import threading
+from typing import Any, Dict, Optional
 
 import actionlib
 import rospy
@@ -35,24 +50,28 @@ from std_msgs.msg import UInt32
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from cssr_system.pepper.joint_table import command_topic, JOINTS, WHEEL_JOINTS
-from cssr_system.pepper.simulated_pepper import (PLATFORMS, POSTURES, GoalPoint, SimulatedPepper,
-                                                 action_namespace, base_topic, odometry_topic,
-                                                 yaw_quaternion, DRIVERS, IDEAL)
+from cssr_system.pepper.simulated_pepper import (CONTROL_RATE, GOAL_TIME, MEASURED, PLATFORMS, POSTURES,
+                                                 STOPPED_VELOCITY_TOLERANCE, SUCCESSFUL, GoalPoint, GoalTolerances,
+                                                 SimulatedPepper, action_namespace, base_topic,
+                                                 check_loop_settings, odometry_topic, yaw_quaternion, DRIVERS,
+                                                 IDEAL)
 
 NODE_NAME = "simulatedPepper"
-UPDATE_RATE = 50.0  # Hz: controllers, /joint_states and odometry
+UPDATE_RATE = 50.0  # Hz: stepping the model (its control loop catches up), /joint_states and odometry
 MAX_VIOLATIONS_LOGGED = 4  # per goal, so one bad goal makes one readable warning
 
 
 class SimulatedPepperNode:
     def __init__(self, platform: str, initial_posture: str, moveto_keep_latest: bool, feedback_rate: float,
-                 driver: str = IDEAL):
+                 driver: str = IDEAL, control_rate: float = CONTROL_RATE, velocity_report: str = MEASURED,
+                 goal_time: float = GOAL_TIME, stopped_velocity_tolerance: float = STOPPED_VELOCITY_TOLERANCE):
         # The model's clock starts at 0 at start-up: small numbers keep the splines' arithmetic exact.
         self._epoch = rospy.get_time()
         # Guards the model. Lock order: an action server's own lock first (actionlib holds it around our
         # callbacks), then this one; never the reverse, so goal handles are used without this lock.
         self._lock = threading.Lock()
-        self.model = SimulatedPepper(platform, initial_posture, self._now(), moveto_keep_latest, driver)
+        self.model = SimulatedPepper(platform, initial_posture, self._now(), moveto_keep_latest, driver, control_rate,
+                                     velocity_report, goal_time, stopped_velocity_tolerance)
         self.platform = self.model.platform
         self._feedback_period = 1.0 / feedback_rate if feedback_rate > 0 else None
         self._next_feedback = 0.0
@@ -87,23 +106,35 @@ class SimulatedPepperNode:
         self._odometry.header.frame_id = "odom"
         self._odometry.child_frame_id = "base_footprint"
         self.timer = rospy.Timer(rospy.Duration(1.0 / UPDATE_RATE), self.on_tick)
-        rospy.loginfo("%s: platform %s, namespace %s, controllers %s, base %s (%s)", NODE_NAME, self.platform.name,
+        rospy.loginfo("%s: platform %s, namespace %s, controllers %s, base %s (%s); control loop %g Hz, velocity "
+                      "report %s, goal time %g s, stopped velocity tolerance %g", NODE_NAME, self.platform.name,
                       self.platform.namespace,
                       ", ".join(controller.name for controller in self.model.controllers.values()),
-                      base_topic(self.platform), self.platform.base_kind)
+                      base_topic(self.platform), self.platform.base_kind, control_rate, velocity_report, goal_time,
+                      stopped_velocity_tolerance)
 
     def _now(self) -> float:
-        return rospy.get_time() - self._epoch
+        now = rospy.get_time()
+        if self._epoch == 0.0 and now > 0.0:
+            # A simulated clock that was silent at start-up (it reads 0) has started: the controllers' time counts
+            # from now, as a controller's update loop counts its uptime, so goals accepted meanwhile start now.
+            self._epoch = now
+        return now - self._epoch if self._epoch else 0.0
 
     # -- actions -------------------------------------------------------------------------------
     def on_goal(self, key: str, goal_handle) -> None:
         controller = self.model.controllers[key]
-        trajectory = goal_handle.get_goal().trajectory
+        goal = goal_handle.get_goal()
+        trajectory = goal.trajectory
         points = [GoalPoint(point.time_from_start.to_sec(), point.positions, point.velocities, point.accelerations)
                   for point in trajectory.points]
         stamp = None if trajectory.header.stamp.is_zero() else trajectory.header.stamp.to_sec() - self._epoch
+        tolerances = GoalTolerances(goal.path_tolerance, goal.goal_tolerance, goal.goal_time_tolerance.to_sec())
         with self._lock:
-            acceptance = controller.submit(goal_handle, trajectory.joint_names, points, self._now(), stamp)
+            now = self._now()
+            ended = controller.update(now)  # the control loop's updates due before this goal came
+            acceptance = controller.submit(goal_handle, trajectory.joint_names, points, now, stamp, tolerances)
+        self._deliver(controller.name, ended)
         if not acceptance.accepted:
             rospy.logwarn("%s: goal rejected (error code %d): %s", NODE_NAME, acceptance.error_code,
                           acceptance.error_string)
@@ -125,23 +156,43 @@ class SimulatedPepperNode:
         points = [GoalPoint(point.time_from_start.to_sec(), point.positions, point.velocities, point.accelerations)
                   for point in trajectory.points]
         stamp = None if trajectory.header.stamp.is_zero() else trajectory.header.stamp.to_sec() - self._epoch
-        with self._lock:
-            acceptance = controller.command(trajectory.joint_names, points, self._now(), stamp)
+        with self.servers[key].lock:  # goals may end here, and their handles are used under their server's lock
+            with self._lock:
+                now = self._now()
+                ended = controller.update(now)
+                acceptance = controller.command(trajectory.joint_names, points, now, stamp)
+            self._deliver(controller.name, ended)
+            if acceptance.accepted and acceptance.preempted_goal is not None:
+                acceptance.preempted_goal.set_canceled(
+                    FollowJointTrajectoryResult(error_string="preempted by a command trajectory"),
+                    "preempted by a command trajectory")
         if not acceptance.accepted:
             rospy.logwarn("%s: %s command rejected: %s", NODE_NAME, controller.name, acceptance.error_string)
             return
-        if acceptance.preempted_goal is not None:
-            acceptance.preempted_goal.set_canceled(
-                FollowJointTrajectoryResult(error_string="preempted by a command trajectory"),
-                "preempted by a command trajectory")
         rospy.logdebug("%s: %s follows a command trajectory of %d point(s)", NODE_NAME, controller.name, len(points))
 
     def on_cancel(self, key: str, goal_handle) -> None:
         controller = self.model.controllers[key]
         with self._lock:
-            stopped = controller.cancel(goal_handle, self._now())
+            now = self._now()
+            ended = controller.update(now)
+            stopped = controller.cancel(goal_handle, now)
+        self._deliver(controller.name, ended)
+        if any(outcome.goal == goal_handle for outcome in ended):
+            return  # it ended at an update before the cancel came: its result is sent
         goal_handle.set_canceled(FollowJointTrajectoryResult(error_string="canceled"), "canceled")
         rospy.logdebug("%s: %s goal canceled%s", NODE_NAME, controller.name, ", holding" if stopped else "")
+
+    def _deliver(self, controller_name: str, outcomes) -> None:
+        """Send the results of goals that ended (the caller holds the controller's server lock)."""
+        for outcome in outcomes:
+            result = FollowJointTrajectoryResult(error_code=outcome.error_code, error_string=outcome.error_string)
+            if outcome.error_code == SUCCESSFUL:
+                outcome.goal.set_succeeded(result)
+                continue
+            rospy.loginfo("%s: %s aborted a goal (error code %d): %s", NODE_NAME, controller_name, outcome.error_code,
+                          outcome.error_string)
+            outcome.goal.set_aborted(result, outcome.error_string)
 
     def _report_violations(self, controller_name: str, violations) -> None:
         described = ["point {} {} = {:.5g} beyond its limit {:.5g}".format(
@@ -180,11 +231,11 @@ class SimulatedPepperNode:
 
     def _tick(self) -> None:
         for key, server in self.servers.items():
+            controller = self.model.controllers[key]
             with server.lock:
                 with self._lock:
-                    outcome = self.model.controllers[key].update(self._now())
-                if outcome is not None:
-                    outcome.goal.set_succeeded(FollowJointTrajectoryResult(error_code=outcome.error_code))
+                    ended = controller.update(self._now())
+                self._deliver(controller.name, ended)
         with self._lock:
             now = self._now()
             joints = self.model.joint_state(now)
@@ -216,16 +267,21 @@ class SimulatedPepperNode:
             with server.lock:
                 with self._lock:
                     goal_handle = controller.active_goal
-                    state = controller.state(self._now())
+                    update = controller.last_update
                 if goal_handle is None:
                     continue
-                point = JointTrajectoryPoint(positions=state.positions.tolist(), velocities=state.velocities.tolist(),
-                                             accelerations=state.accelerations.tolist())
-                error = JointTrajectoryPoint(positions=[0.0] * len(point.positions),
-                                             velocities=[0.0] * len(point.positions))
-                feedback = FollowJointTrajectoryFeedback(joint_names=list(controller.joint_names), desired=point,
-                                                         actual=point, error=error)
-                feedback.header.stamp = stamp
+                # As the controller's feedback: its last update, in its joint order; nothing measures accelerations.
+                desired, actual, error = update.desired, update.actual, update.error
+                feedback = FollowJointTrajectoryFeedback(
+                    joint_names=list(controller.joint_names),
+                    desired=JointTrajectoryPoint(positions=desired.positions.tolist(),
+                                                 velocities=desired.velocities.tolist(),
+                                                 accelerations=desired.accelerations.tolist()),
+                    actual=JointTrajectoryPoint(positions=actual.positions.tolist(),
+                                                velocities=actual.velocities.tolist()),
+                    error=JointTrajectoryPoint(positions=error.positions.tolist(),
+                                               velocities=error.velocities.tolist()))
+                feedback.header.stamp = rospy.Time.from_sec(update.time + self._epoch)
                 goal_handle.publish_feedback(feedback)
 
 
@@ -236,6 +292,20 @@ def quiet_at_shutdown(callback, event) -> None:
     except rospy.ROSException:
         if not rospy.core.is_shutdown_requested():
             raise
+
+
+def loop_parameters() -> Optional[Dict[str, Any]]:
+    """The controllers' loop settings from the private parameters; None after a logfatal naming a bad one."""
+    values = {name: rospy.get_param("~" + name, default)
+              for name, default in (("control_rate", CONTROL_RATE), ("velocity_report", MEASURED),
+                                    ("goal_time", GOAL_TIME),
+                                    ("stopped_velocity_tolerance", STOPPED_VELOCITY_TOLERANCE))}
+    try:
+        check_loop_settings(**values)
+    except ValueError as error:
+        rospy.logfatal("%s: ~%s", NODE_NAME, error)
+        return None
+    return values
 
 
 def main() -> int:
@@ -250,7 +320,10 @@ def main() -> int:
     if driver not in DRIVERS:
         rospy.logfatal("%s: ~driver must be one of %s (got %r)", NODE_NAME, ", ".join(DRIVERS), driver)
         return 2
+    loop = loop_parameters()
+    if loop is None:
+        return 2
     SimulatedPepperNode(platform, initial_posture, bool(rospy.get_param("~moveto_keep_latest", False)),
-                        float(rospy.get_param("~feedback_rate", 10.0)), driver)
+                        float(rospy.get_param("~feedback_rate", 10.0)), driver, **loop)
     rospy.spin()
     return 0
