@@ -3,7 +3,8 @@
 # platform interfaces of the simulated Pepper (test/benchmark/benchmark.py). Not part of `make test`.
 #   BENCHMARK_CYCLES (enable/disable cycles, default 30), BENCHMARK_CPU_WINDOW (s, default 20),
 #   BENCHMARK_EXIT_RUNS (exits per signal, default 3), BENCHMARK_PLATFORMS (default "robot simulator"),
-#   BENCHMARK_JSON (default: <workspace>/benchmark.json),
+#   BENCHMARK_JSON (default: <workspace>/benchmark.json); the table of every platform run goes to
+#   doc/benchmark-latest.md (linked from doc/performance.md),
 #   BENCHMARK_SOAK (s of soak with short goals, default 0: none) and BENCHMARK_GROWTH_CYCLES (quick enable/disable
 #   cycles after it, default 0): on the first platform only. BENCHMARK_PYTHON38=1: the node runs under Python 3.8
 #   with Noetic's versions (the environment of tools/unit_tests_noetic_python.sh, which runs first).
@@ -30,7 +31,7 @@ growth=${BENCHMARK_GROWTH_CYCLES:-0}
 for platform in ${BENCHMARK_PLATFORMS:-robot simulator}; do
   python3 test/benchmark/benchmark.py --platform "$platform" --cycles "${BENCHMARK_CYCLES:-30}" \
     --cpu-window "${BENCHMARK_CPU_WINDOW:-20}" --exit-runs "${BENCHMARK_EXIT_RUNS:-3}" --soak "$soak" \
-    --growth-cycles "$growth" --json "$json" "${node_python[@]}"
+    --growth-cycles "$growth" --json "$json" --markdown "$REPO_DIR/doc/benchmark-latest.md" "${node_python[@]}"
   soak=0 growth=0
   echo
 done

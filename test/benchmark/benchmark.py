@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """`make benchmark`: animateBehaviour's figures beside its targets and beside a minimal rospy node's
-(`reference_node.py`), measured in the same run on the same machine, so the ratios hold anywhere (README: "Tests").
+(`reference_node.py`), measured in the same run on the same machine, so the ratios hold anywhere (doc/performance.md).
 
 One run per platform interface of the simulated Pepper: a master of its own, the simulated Pepper, then each
 subject (the node, the reference) started as a process of this run. Times run from this process sending a request
@@ -8,7 +8,7 @@ to the message arriving here, where the controllers are (test/wire_recorder.py).
 files come from /proc for the subject's process (its pid from the master, never from a process name).
 
 usage: benchmark.py --platform robot|simulator [--cycles N] [--cpu-window S] [--exit-runs N] [--json FILE]
-                    [--soak S] [--growth-cycles N]
+                    [--markdown FILE] [--soak S] [--growth-cycles N]
 """
 import argparse
 import json
@@ -38,7 +38,7 @@ from cssr_system.msg import AnimateBehaviourStatus  # noqa: E402
 from cssr_system.animate_behaviour.configuration import ALL_BEHAVIOURS, load_configuration  # noqa: E402
 from cssr_system.animate_behaviour.configuration import shipped_configuration_path, topic_file_path  # noqa: E402
 from cssr_system.animate_behaviour.topics import load_topic_map  # noqa: E402
-from cssr_system.animate_behaviour.node.joint_state_feed import REST_DELAY  # noqa: E402
+from cssr_system.animate_behaviour.node.joint_states import REST_DELAY  # noqa: E402
 from cssr_system.pepper.joint_table import PARTS  # noqa: E402
 from cssr_system.srv import setActivation  # noqa: E402
 
@@ -360,8 +360,9 @@ def cell(figure: Optional[dict]) -> str:
     return text
 
 
-def table(platform: str, results: dict) -> str:
-    rows = [("figure", "node p50 / p90 / max", "reference p50 / p90 / max", "target", "met?")]
+def rows_of(results: dict) -> list:
+    """Per target: (figure and unit, the node's p50 / p90 / max, the reference's, target, met)."""
+    rows = []
     for target in TARGETS:
         node = results["node"].get(target.name)
         met = verdict(target, node)
@@ -370,6 +371,11 @@ def table(platform: str, results: dict) -> str:
             met_text += " (mean %.2f)" % node["mean"]
         rows.append((target.name + (" (%s)" % target.unit if target.unit else ""), cell(node),
                      cell(results["reference"].get(target.name)), target_text(target), met_text))
+    return rows
+
+
+def table(platform: str, results: dict) -> str:
+    rows = [("figure", "node p50 / p90 / max", "reference p50 / p90 / max", "target", "met?")] + rows_of(results)
     widths = [max(len(row[column]) for row in rows) for column in range(4)]
     lines = ["animateBehaviour benchmark, platform %s: the node beside a minimal rospy reference node" % platform]
     lines += ["  ".join(text.ljust(width) for text, width in zip(row, widths)) + "  " + row[4] for row in rows]
@@ -444,6 +450,33 @@ def soak_table(result: dict) -> str:
     return "\n".join(lines)
 
 
+def markdown(document: dict) -> str:
+    """doc/benchmark-latest.md: the figures of every platform in `document` (the JSON's sections), side by side."""
+    platforms = list(document)
+    rows = {platform: rows_of(document[platform]["figures"]) for platform in platforms}
+    lines = ["<!-- Written by `make benchmark` (test/benchmark/benchmark.py). Do not edit: run it again. -->", "",
+             "# Latest benchmark", ""]
+    for platform in platforms:
+        section = document[platform]
+        node_python = "the same" if section["node python"] == "rosrun" else section["node python"]
+        lines.append("- %s interface: %s, %s cores, Python %s (the node's: %s), %d cycles, %g s CPU windows, %d "
+                     "exits per signal" % (platform, section["time"], section["cores"], section.get("python", "?"),
+                                           node_python, section["cycles"], section["cpu window"], section["exit runs"]))
+    lines += ["", "Each cell: the node's p50 / p90 / max, then the reference node's in brackets; met: whether the "
+              "node meets the target.", "",
+              "| figure | target | " + " | ".join("%s | met" % platform for platform in platforms) + " |",
+              "|---|---|" + "---|---|" * len(platforms)]
+    for index in range(len(TARGETS)):
+        name, _, _, target_cell, _ = rows[platforms[0]][index]
+        cells = ["%s%s | %s" % (row[1], "" if row[2] == "-" else " (%s)" % row[2], row[4])
+                 for row in (rows[platform][index] for platform in platforms)]
+        lines.append("| %s | %s | %s |" % (name, target_cell, " | ".join(cells)))
+    for platform in platforms:
+        if "soak" in document[platform]:
+            lines += ["", "Growth, %s interface:" % platform, "", "```", soak_table(document[platform]["soak"]), "```"]
+    return "\n".join(lines) + "\n"
+
+
 def main(argv) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--platform", choices=PLATFORMS, default="robot")
@@ -451,6 +484,8 @@ def main(argv) -> int:
     parser.add_argument("--cpu-window", type=float, default=20.0, help="seconds of each CPU window")
     parser.add_argument("--exit-runs", type=int, default=3, help="exits measured per signal and subject")
     parser.add_argument("--json", default=None, help="file the figures are added to (one section per platform)")
+    parser.add_argument("--markdown", default=None,
+                        help="file the table of every platform in the JSON (or of this one) is written to")
     parser.add_argument("--soak", type=float, default=0.0, help="seconds of soak with short goals (0: none)")
     parser.add_argument("--growth-cycles", type=int, default=0, help="quick enable/disable cycles after the soak")
     parser.add_argument("--node-python", default=None,
@@ -480,19 +515,24 @@ def main(argv) -> int:
                    "cycles": arguments.cycles, "cpu window": arguments.cpu_window, "exit runs": arguments.exit_runs,
                    "quiet time": benchmark.quiet_time, "node python": arguments.node_python or "rosrun",
                    "cores": os.cpu_count(), "host": socket.gethostname(),
+                   "python": "%d.%d.%d" % sys.version_info[:3],
                    "time": time.strftime("%Y-%m-%dT%H:%M:%S%z")}
         if arguments.soak or arguments.growth_cycles:
             section["soak"] = soak(benchmark, arguments.soak, arguments.growth_cycles)
             print(soak_table(section["soak"]))
+        document = {}
+        if arguments.json and os.path.exists(arguments.json):
+            with open(arguments.json) as stream:
+                document = json.load(stream)
+        document[arguments.platform] = section
         if arguments.json:
-            document = {}
-            if os.path.exists(arguments.json):
-                with open(arguments.json) as stream:
-                    document = json.load(stream)
-            document[arguments.platform] = section
             with open(arguments.json, "w") as stream:
                 json.dump(document, stream, indent=1)
             print("figures written to %s" % arguments.json)
+        if arguments.markdown:
+            with open(arguments.markdown, "w") as stream:
+                stream.write(markdown(document))
+            print("table written to %s" % arguments.markdown)
     finally:
         rospy.signal_shutdown("done")
         for process in reversed(processes):

@@ -1,6 +1,6 @@
 """`make benchmark` runs and reports every figure: a short run on one platform, with a short soak (the real one
-takes minutes and is not a test). Checks the JSON and the printed table, not the figures, which depend on the
-machine."""
+takes minutes and is not a test). Checks the JSON, the printed table and the markdown table (doc/benchmark-latest.md
+under `make benchmark`), not the figures, which depend on the machine."""
 import json
 import os
 import subprocess
@@ -19,9 +19,10 @@ REFERENCE_MEASURED = ["setActivation enabled reply", "setActivation disabled rep
 
 def test_a_short_benchmark_reports_every_figure_beside_the_reference_and_its_target(tmp_path):
     output = str(tmp_path / "benchmark.json")
+    table_file = str(tmp_path / "benchmark-latest.md")
     run = subprocess.run([sys.executable, os.path.join(REPO_DIR, "test", "benchmark", "benchmark.py"),
                           "--platform", "robot", "--cycles", "2", "--cpu-window", "1", "--exit-runs", "1",
-                          "--soak", "2", "--growth-cycles", "2", "--json", output],
+                          "--soak", "2", "--growth-cycles", "2", "--json", output, "--markdown", table_file],
                          stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True, timeout=240)
     assert run.returncode == 0, run.stdout[-3000:]
     lines = run.stdout.splitlines()
@@ -53,3 +54,21 @@ def test_a_short_benchmark_reports_every_figure_beside_the_reference_and_its_tar
         assert set(soak[state]) == {"resident memory", "threads", "open files", "log bytes"}
     assert soak["growth cycles"] == 2 and "soak growth" in soak and "cycles growth" in soak
     assert "soak: 2 s of short goals" in run.stdout
+    assert "table written to %s" % table_file in run.stdout
+    with open(table_file) as stream:
+        written = stream.read()
+    assert "| figure | target | robot | met |" in written
+    assert "robot interface: %s, %d cores, Python %d.%d" % ((section["time"], os.cpu_count()) + sys.version_info[:2]) \
+        in written
+    for target in TARGETS:
+        rows = [line for line in written.splitlines() if line.startswith("| %s " % target.name)]
+        assert len(rows) == 1 and rows[0].count("|") == 5, (target.name, rows)
+    assert "soak: 2 s of short goals" in written
+
+
+def test_make_benchmark_writes_the_latest_table_into_the_repository():
+    with open(os.path.join(REPO_DIR, "tools", "benchmark.sh")) as stream:
+        script = stream.read()
+    assert '--markdown "$REPO_DIR/doc/benchmark-latest.md"' in script
+    with open(os.path.join(REPO_DIR, "doc", "benchmark-latest.md")) as stream:
+        assert "| figure | target |" in stream.read()
