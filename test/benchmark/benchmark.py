@@ -462,13 +462,13 @@ def markdown(document: dict) -> str:
         lines.append("- %s interface: %s, %s cores, Python %s (the node's: %s), %d cycles, %g s CPU windows, %d "
                      "exits per signal" % (platform, section["time"], section["cores"], section.get("python", "?"),
                                            node_python, section["cycles"], section["cpu window"], section["exit runs"]))
-    lines += ["", "Each cell: the node's p50 / p90 / max, then the reference node's in brackets; met: whether the "
-              "node meets the target.", "",
+    lines += ["", "Each cell: the node's p50 / p90 / max, then the reference node's (ref); met: whether the node "
+              "meets the target.", "",
               "| figure | target | " + " | ".join("%s | met" % platform for platform in platforms) + " |",
               "|---|---|" + "---|---|" * len(platforms)]
     for index in range(len(TARGETS)):
         name, _, _, target_cell, _ = rows[platforms[0]][index]
-        cells = ["%s%s | %s" % (row[1], "" if row[2] == "-" else " (%s)" % row[2], row[4])
+        cells = ["%s%s | %s" % (row[1], "" if row[2] == "-" else "; ref %s" % row[2], row[4])
                  for row in (rows[platform][index] for platform in platforms)]
         lines.append("| %s | %s | %s |" % (name, target_cell, " | ".join(cells)))
     for platform in platforms:
