@@ -12,15 +12,20 @@ from hypothesis import given, settings, strategies as st
 from conftest import ROBOT_PARTS, default_configuration
 
 from cssr_system.animate_behaviour.motion import trajectory_timing
-from cssr_system.animate_behaviour.motion.trajectory_timing import (TimedTrajectory, speed_caps, spline_of,
-                                                                    time_trajectory, to_points)
+from cssr_system.animate_behaviour.motion.trajectory_timing import (TimedTrajectory, speed_caps, time_trajectory,
+                                                                    to_points)
 from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng, random_waypoints
 from cssr_system.pepper.joint_table import JOINTS, PARTS, SPEED_FRACTION
-from cssr_system.pepper.trajectory_interpolation import (QUINTIC, evaluate_polynomial, quintic_coefficients,
-                                                         sample_trajectory)
+from cssr_system.pepper.trajectory_interpolation import (QUINTIC, JointTrajectorySpline, evaluate_polynomial,
+                                                         quintic_coefficients, sample_trajectory)
 
 SAMPLES_PER_SEGMENT = 150
 ROUNDING = 1e-9
+
+
+def spline_of(timed: TimedTrajectory, start_positions, start_velocities=None, start_accelerations=None):
+    """The motion the controller makes of `timed`, starting from the given state."""
+    return JointTrajectorySpline(start_positions, start_velocities, start_accelerations, to_points(timed))
 
 
 class Plan:

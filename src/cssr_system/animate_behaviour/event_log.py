@@ -205,10 +205,6 @@ class EventLog:
         return self._path
 
     @property
-    def requested_path(self) -> str:
-        return self._requested
-
-    @property
     def writing(self) -> bool:
         """False while lines are dropped (no file could be opened or written)."""
         return self._failure is None and not self._closed

@@ -20,6 +20,7 @@ exits.
 ``0 completed``, ``1 the animateBehaviour node (its service /animateBehaviour/setActivation) did not
 start within 40 s``, ``130 stopped early (shutdown request)``.
 """
+import functools
 import signal
 import threading
 import time
@@ -32,6 +33,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Empty
 
 from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.demo import console
 from cssr_system.animate_behaviour.contract import (DISABLED, ENABLED, REPLY_SUCCESS, SERVICE_PATH,
                                                     STATUS_TOPIC)
 from cssr_system.animate_behaviour.demo.gesture import PLAY_TOPIC
@@ -44,6 +46,7 @@ from cssr_system.msg import AnimateBehaviourStatus
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
 
 NODE_NAME = "animateBehaviourDemo"
+say = functools.partial(console.say, NODE_NAME)
 REST_BEFORE = 1.0  # s at rest before enabling, so the plot shows the start
 SERVICE_CALL_TIMEOUT = 5.0  # s; the node answers within 100 ms, so this only catches a dead node
 STOP_DISABLE_TIMEOUT = 2.0  # s for the disable when stopping early (the node may be stopping too)
@@ -56,10 +59,6 @@ class DemoError(Exception):
 
 class Interrupted(Exception):
     """A stop was requested (signal or shutdown request)."""
-
-
-def say(text: str) -> None:
-    print("%s: %s" % (NODE_NAME, text), flush=True)
 
 
 def records_the_node(recorder: str, node: str = "/" + contract.NODE_NAME) -> bool:

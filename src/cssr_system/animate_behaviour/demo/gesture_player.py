@@ -10,6 +10,7 @@ action namespace, which it reads from the topic file of the node's configuration
 the goal ends, with its final state (SUCCEEDED, PREEMPTED, ABORTED, ...): the demo shows whether
 animateBehaviour lets the gesture run.
 """
+import functools
 import os
 import threading
 import time
@@ -21,17 +22,16 @@ from std_msgs.msg import Empty
 from trajectory_msgs.msg import JointTrajectoryPoint
 
 from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.demo import console
 from cssr_system.animate_behaviour.demo.gesture import (GESTURE_DURATION, GESTURE_PART, NODE_NAME, PLAY_TOPIC,
                                                         gesture_points)
 from cssr_system.animate_behaviour.node.goals import goal_state_name
 from cssr_system.animate_behaviour.recording.recording import run_setting
 from cssr_system.pepper.joint_table import PARTS
 
+say = functools.partial(console.say, NODE_NAME)
+
 SERVER_TIMEOUT = 5.0  # s to wait for the action server when playing
-
-
-def say(text: str) -> None:
-    print("%s: %s" % (NODE_NAME, text), flush=True)
 
 
 class GesturePlayer:

@@ -33,8 +33,7 @@ from typing import List, NamedTuple, Sequence
 import numpy
 
 from cssr_system.pepper.joint_table import JOINTS, speed_limit
-from cssr_system.pepper.trajectory_interpolation import (JointTrajectorySpline, TrajectoryPoint,
-                                                         points_from_arrays, quintic_coefficients)
+from cssr_system.pepper.trajectory_interpolation import TrajectoryPoint, points_from_arrays, quintic_coefficients
 
 SUBINTERVALS = 16  # pieces of [0, 1] for the Bernstein bounds
 LIMIT_SCALES = (1.0, 0.5, 0.25, 0.125)  # tried in order; 0 is always monotone
@@ -443,10 +442,3 @@ def _stop_and_go(first, knots, velocities, accelerations, durations, first_grade
 def to_points(timed: TimedTrajectory) -> List[TrajectoryPoint]:
     """The goal's points (plain floats, ready for trajectory_msgs/JointTrajectoryPoint)."""
     return points_from_arrays(timed.times, timed.positions, timed.velocities, timed.accelerations)
-
-
-def spline_of(timed: TimedTrajectory, start_positions, start_velocities=None, start_accelerations=None,
-              start_time: float = 0.0) -> JointTrajectorySpline:
-    """The motion the controller makes of `timed`, starting from the given state at `start_time`."""
-    return JointTrajectorySpline(start_positions, start_velocities, start_accelerations,
-                                 to_points(timed), start_time)

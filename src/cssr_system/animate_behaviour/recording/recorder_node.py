@@ -20,6 +20,7 @@ Parameters: ``~output_dir`` (default ``$ROS_HOME/animateBehaviourDemo``); ``~nod
 recorded, default ``/animateBehaviour``: its parameters give its configuration file, platform,
 topics and log file, as the node itself resolves them).
 """
+import functools
 import math
 import os
 import threading
@@ -34,6 +35,7 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 
 from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.demo import console
 from cssr_system.animate_behaviour.event_log import read_log
 from cssr_system.animate_behaviour.recording.commanded import (CancelRequest, GoalResult, SentGoal, commanded_by,
                                                                controller_pieces, goal_marks)
@@ -54,10 +56,7 @@ DEFAULT_FOLDER = "animateBehaviourDemo"  # in $ROS_HOME
 LOG_MARGIN = 1.0  # s: log entries this long before the recorder started still belong to the run
 
 
-def say(text: str, node_name: str = NODE_NAME) -> None:
-    """One line for the person running the demo, ``<node_name>: <text>``, printed at once (under roslaunch
-    stdout is a pipe, which would hold it back). The demo's other nodes may print with their own name."""
-    print("%s: %s" % (node_name, text), flush=True)
+say = functools.partial(console.say, NODE_NAME)
 
 
 def goal_id_caller(goal_id: str) -> str:
