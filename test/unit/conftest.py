@@ -7,7 +7,7 @@ SIMULATOR_PARTS = ("RArm", "LArm", "Leg")  # simulatorTopics.dat: no hands
 
 
 def default_configuration(**overrides) -> Configuration:
-    """The shipped configuration (README: "Configuration file"), with `overrides` applied."""
+    """The shipped configuration (README: "Configuration file and parameters"), with `overrides` applied."""
     configuration = Configuration(
         platform="robot",
         behaviour=frozenset(BEHAVIOURS),

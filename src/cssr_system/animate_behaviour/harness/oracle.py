@@ -60,7 +60,7 @@ class ExpectedMotion(NamedTuple):
 
 
 def maximum_range_fraction(config: Configuration, joint_name: str) -> float:
-    """The configuration's maximum-range fraction of a joint (README: "Configuration file")."""
+    """The configuration's maximum-range fraction of a joint (README: "Configuration file and parameters")."""
     key = part_of(joint_name)
     if key in ("RArm", "LArm"):
         return float(config.arm_maximum_range[ARM_RANGE_ORDER.index(short_name(joint_name))])

@@ -1,5 +1,6 @@
-"""The node's private parameters: ~configFile, ~logFile, and overrides of configuration keys (README: "Parameters").
-Read again at every ``enabled``, so a harness can point the node at a configuration of its own."""
+"""The node's private parameters: ~configFile, ~logFile, and overrides of configuration keys (README: "Configuration
+file and parameters"). Read again at every ``enabled``, so a harness can point the node at a configuration of its
+own."""
 import os
 from typing import Dict, Optional, Tuple
 
