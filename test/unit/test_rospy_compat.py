@@ -34,6 +34,12 @@ def test_a_publisher_knows_its_subscribers_and_a_subscriber_its_publishers():
     assert callable(rospy.topics.Subscriber.unregister)
 
 
+def test_a_publisher_without_a_queue_size_writes_each_connection_itself():
+    assert callable(rospy.topics._PublisherImpl.set_queue_size)
+    adding = inspect.getsource(rospy.topics._PublisherImpl.add_connection)
+    assert "if self.queue_size is not None" in adding and "QueuedConnection(" in adding
+
+
 class FakeConnection:
     def __init__(self, caller):
         self.callerid_pub = caller

@@ -34,3 +34,12 @@ def ignore_feedback(client) -> None:
     """Stops an ActionClient receiving its server's feedback, which the node does not use: a controller publishes
     it for every active goal at its state rate, and each message would wake and cost the node a decode."""
     client.feedback_sub.unregister()
+
+
+def write_at_once(publisher) -> None:
+    """Makes `publisher.publish` write to every subscriber before it returns, instead of handing the message to a
+    writer thread per subscriber (what rospy does for a publisher made with a queue size, as actionlib makes its
+    goal and cancel publishers). A stop is then on the wire when the node goes on to exit, and the node keeps no
+    thread per connection. Call it before the publisher's first connection: rospy wraps each new connection as the
+    queue size says at that moment."""
+    publisher.impl.set_queue_size(None)

@@ -12,6 +12,7 @@ from cssr_system.animate_behaviour.contract import NODE_NAME, PURPOSE_ANIMATE, P
 from cssr_system.animate_behaviour.motion.base_rotation import BaseRotationPlanner, heading_after_interruption
 from cssr_system.animate_behaviour.node.foreign_motion import TWIST
 from cssr_system.animate_behaviour.node.motion_stream import MotionStream, StreamState
+from cssr_system.animate_behaviour.rospy_compat import write_at_once
 from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.pepper.joint_table import VELOCITY, base_busy_time, wheels_command_kind
 
@@ -38,6 +39,7 @@ class BaseStream(MotionStream):
         super().__init__(WHEELS_KEY, topic, TRANSITIONS, log, debug)
         self.kind = wheels_command_kind(topic)
         self.publisher = rospy.Publisher(topic, Twist, queue_size=10)
+        write_at_once(self.publisher)  # the zero Twist of a stop is on the wire when publish returns
         self._foreign_count = 0
         self.planner: Optional[BaseRotationPlanner] = None
         self._step = None

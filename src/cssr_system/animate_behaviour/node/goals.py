@@ -16,7 +16,7 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.event_log import format_log_line, format_timestamp
 from cssr_system.animate_behaviour.motion.planners import GOAL_TIME_TOLERANCE, Planner, settled
 from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory, to_points
-from cssr_system.animate_behaviour.rospy_compat import ignore_feedback
+from cssr_system.animate_behaviour.rospy_compat import ignore_feedback, write_at_once
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
 
@@ -34,6 +34,8 @@ def action_client(action: str) -> actionlib.ActionClient:
     its transitions carry their handle, so a result that arrives before send_goal returns is not lost."""
     client = actionlib.ActionClient(action, FollowJointTrajectoryAction)
     ignore_feedback(client)
+    write_at_once(client.pub_goal)  # a goal or a cancel is on the wire when send_goal or cancel returns
+    write_at_once(client.pub_cancel)
     return client
 
 

@@ -11,7 +11,6 @@ import os
 import signal
 import sys
 import threading
-import time
 from typing import Callable, List, Optional
 
 import rospy
@@ -24,9 +23,6 @@ from cssr_system.animate_behaviour.node.parameters import (config_file_parameter
 from cssr_system.animate_behaviour.node.animate_behaviour_node import AnimateBehaviourNode
 from cssr_system.animate_behaviour.node.wakeup import Wakeup
 
-# s for the last messages (cancels, home goals, a zero Twist) to leave: rospy's writer threads send within
-# milliseconds, and there is no public way to ask whether they have.
-SHUTDOWN_FLUSH_TIME = 0.1
 TEARDOWN_TIME = 0.1  # s at most for rospy's teardown (unregistering from the master), once the robot is stopped
 # s between checks that the supervisor still runs and rospy has not shut down. A signal, a stop request and the
 # supervisor's end wake the main thread at once (node/wakeup.py): this only bounds what nothing announces.
@@ -61,7 +57,7 @@ class Stopper:
             self.reason = self.reason or reason
             self._node.request_shutdown(self.reason)
             self._node.services.withdraw()
-            time.sleep(SHUTDOWN_FLUSH_TIME)
+            # The stop (cancels, home goals, a zero Twist) is on the wire: those publishers write at once.
             self._node.log.write(contract.NODE_STOPPED, reason=self.reason)
 
 
