@@ -111,7 +111,8 @@ def test_configuration_items_are_written_as_in_the_file():
     items = configuration_items(SHIPPED_DEFAULTS)
     expected = OrderedDict(SHIPPED_VALUES)
     expected.update(randomSeed="none", homeOnDisable="true", headingBound="0.3", yieldQuietTime="1.0",
-                    motionStyle="random", breathsPerMinute="12.0", breathingAmplitude="0.6")
+                    motionStyle="random", breathsPerMinute="12.0", breathingAmplitude="0.6", intensity="1.0",
+                    moveArms="true", moveHands="true", moveLeg="true", turnBase="true")
     assert items == expected and list(items) == list(expected)
     items = configuration_items(SHIPPED_DEFAULTS._replace(behaviour=frozenset({"rotation", "body"}), random_seed=7))
     assert items["behaviour"] == "body,rotation" and items["randomSeed"] == "7"

@@ -37,3 +37,14 @@ def test_the_first_random_segment_accelerates_no_more_than_the_style(seed):
             now = spline.end_time
             state = (numpy.asarray(spline.sample(now)[0]), zeros, zeros)
         assert first.max() <= later.max() * 1.0001, motion.part
+
+
+def test_the_tempo_paces_the_random_style():
+    """breathsPerMinute is the tempo of both styles: at twice the reference tempo gestures take half as long."""
+    for tempo, factor in ((12.0, 1.0), (24.0, 0.5), (6.0, 2.0)):
+        config = default_configuration(random_seed=3, breaths_per_minute=tempo, num_points=6)
+        motion = animated_parts(config, ("RArm",))[0]
+        start = numpy.array(PARTS["RArm"].centre)
+        timed = MotionStyle(config, make_rng(3)).planner(motion)(0.0, start, numpy.zeros(5), numpy.zeros(5))
+        assert numpy.diff(timed.times).min() >= config.gesture_duration * factor - 1e-9
+        assert numpy.diff(timed.times).min() == pytest.approx(config.gesture_duration * factor, rel=0.5)

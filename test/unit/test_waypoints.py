@@ -256,3 +256,21 @@ def test_same_seed_gives_same_waypoints():
     assert not numpy.array_equal(random_waypoints(parts[0], config, make_rng(42)),
                                  random_waypoints(parts[0], config, make_rng(43)))
     assert isinstance(make_rng(None), numpy.random.Generator)
+
+
+def test_intensity_scales_every_band_about_its_centre():
+    full = {m.part: m for m in animated_parts(default_configuration(), tuple(PARTS))}
+    half = {m.part: m for m in animated_parts(default_configuration(intensity=0.5), tuple(PARTS))}
+    still = {m.part: m for m in animated_parts(default_configuration(intensity=0.0), tuple(PARTS))}
+    for part, motion in full.items():
+        for wide, narrow, none in zip(motion.bounds, half[part].bounds, still[part].bounds):
+            assert narrow.upper - narrow.centre == pytest.approx(0.5 * (wide.upper - wide.centre))
+            assert narrow.centre - narrow.lower == pytest.approx(0.5 * (wide.centre - wide.lower))
+            assert none.lower == none.upper == none.centre
+
+
+def test_switched_off_parts_do_not_move():
+    config = default_configuration(move_arms=False, move_leg=False)
+    assert [m.part for m in animated_parts(config, tuple(PARTS))] == ["RHand", "LHand"]
+    config = default_configuration(move_hands=False)
+    assert [m.part for m in animated_parts(config, tuple(PARTS))] == ["RArm", "LArm", "Leg"]

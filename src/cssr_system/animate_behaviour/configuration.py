@@ -91,6 +91,12 @@ class Configuration(NamedTuple):
     motion_style: str = "random"
     breaths_per_minute: float = 12.0
     breathing_amplitude: float = 0.6
+    # The live settings' starting values (README: "Live settings"): they change while the node runs.
+    intensity: float = 1.0
+    move_arms: bool = True
+    move_hands: bool = True
+    move_leg: bool = True
+    turn_base: bool = True
 
 
 class ConfigurationError(ValueError):
@@ -342,9 +348,21 @@ KEYS: Dict[str, KeySpec] = OrderedDict((spec.name, spec) for spec in (
          "random: random positions in each joint's band; breathing: a slow breathing rhythm with coherent "
          "variation and rare posture shifts, in the same bands", default="random"),
     _key("breathsPerMinute", "breaths_per_minute", number_in(5.0, 20.0), _format_number,
-         "a number in [5, 20]", "the breathing style's rhythm", default=12.0),
+         "a number in [5, 20]", "the tempo: the breathing style's rhythm; the random style's gestures take "
+         "12 / breathsPerMinute times gestureDuration", default=12.0),
     _key("breathingAmplitude", "breathing_amplitude", number_in(0.0, 1.0), _format_number, _UNIT,
          "the breathing style's amplitude, as a fraction of each joint's band", default=0.6),
+    _key("intensity", "intensity", number_in(0.0, 1.0), _format_number, _UNIT,
+         "scales every joint's band about its centre: 1 the bands above, 0 no motion", default=1.0),
+    _key("moveArms", "move_arms", _boolean, _format_boolean, "true or false",
+         "the arms move (where the behaviour moves them)", default=True),
+    _key("moveHands", "move_hands", _boolean, _format_boolean, "true or false",
+         "the hands move (where the behaviour moves them)", default=True),
+    _key("moveLeg", "move_leg", _boolean, _format_boolean, "true or false",
+         "the hip and knee move (where the behaviour moves them)", default=True),
+    _key("turnBase", "turn_base", _boolean, _format_boolean, "true or false",
+         "the base turns (where the behaviour has rotation); switched off it stops without turning back",
+         default=True),
 ))
 
 

@@ -75,7 +75,7 @@ def table1_bounds(config: Configuration, joint_name: str) -> Tuple[float, float]
     centre = centre_of(joint_name)
     full_range = limits.upper - limits.lower
     maximum_range_offset = full_range * maximum_range_fraction(config, joint_name)
-    selected_range_offset = maximum_range_offset * config.selected_range / 2.0
+    selected_range_offset = maximum_range_offset * config.selected_range / 2.0 * config.intensity
     return max(centre - selected_range_offset, limits.lower), min(centre + selected_range_offset, limits.upper)
 
 

@@ -28,6 +28,7 @@ from cssr_system.pepper.joint_table import PARTS
 SETTLE_TIME = 0.25  # s a goal that ends at rest holds its last point: 3 control periods at 12 Hz
 GOAL_TIME_TOLERANCE = 0.5  # s after a goal's end the controller may wait for the joints to settle (every goal)
 HOME_GESTURE_DURATION = 0.5  # s, the shortest return to the centre on disable (stretched as needed)
+REFERENCE_TEMPO = 12.0  # breaths per minute at which the random style's gestures take gestureDuration
 
 
 class Planner:
@@ -60,7 +61,9 @@ class RandomPlanner(Planner):
 
     def __call__(self, now, positions, velocities, accelerations) -> TimedTrajectory:
         waypoints = random_waypoints(self._motion, self._config, self._rng)
-        return time_trajectory(waypoints, self._motion.joints, positions, velocities, self._config.gesture_duration,
+        # The tempo (breathsPerMinute) paces this style too.
+        duration = self._config.gesture_duration * REFERENCE_TEMPO / self._config.breaths_per_minute
+        return time_trajectory(waypoints, self._motion.joints, positions, velocities, duration,
                                start_accelerations=accelerations)
 
 

@@ -3,7 +3,7 @@
 Bounds follow the band formula of the README ("What moves, and how"), per joint j:
     FR  = max - min                      full range of the joint (URDF limits)
     MRO = FR * maxRange[j]               maximum range of oscillation
-    SRO = MRO * selectedRange / 2        half-width of the selected range
+    SRO = MRO * selectedRange / 2 * intensity    half-width of the selected range (intensity: a live setting)
     UB  = min(centre + SRO, max),  LB = max(centre - SRO, min)
 Each random position of a moving joint is uniform in [LB, UB]; a joint the behaviour does not move has
 LB == UB == centre and stays exactly there.
@@ -63,7 +63,7 @@ def joint_bounds(config, joint_name: str) -> JointBounds:
     middle = centre_of(joint_name)
     full_range = limits.upper - limits.lower
     maximum_oscillation = full_range * maximum_range(config, joint_name)
-    selected_half_range = maximum_oscillation * config.selected_range / 2.0
+    selected_half_range = maximum_oscillation * config.selected_range / 2.0 * config.intensity
     return JointBounds(
         joint_name,
         middle,
@@ -92,13 +92,20 @@ def _moving_joints(behaviour, part_key: str) -> Tuple[bool, ...]:
     return tuple(body for _ in joints)  # the leg
 
 
+def part_switched_on(config, part_key: str) -> bool:
+    """The live setting that lets a part move (moveArms, moveHands, moveLeg)."""
+    if part_key in ARM_PARTS:
+        return config.move_arms
+    return config.move_hands if part_key in HAND_PARTS else config.move_leg
+
+
 def animated_parts(config, available_parts: Iterable[str]) -> Tuple[PartMotion, ...]:
-    """The parts the configured behaviour drives, in PARTS order, each once.
+    """The parts the configured behaviour drives and the live settings let move, in PARTS order, each once.
 
     `available_parts` are the keys of the platform's topic file: a part without a controller there
     (the simulator's hands) is left out. "rotation" alone drives no joint.
     """
-    available = set(available_parts)
+    available = {key for key in available_parts if key in PARTS and part_switched_on(config, key)}
     motions = []
     for key, part in PARTS.items():
         if key not in available:
