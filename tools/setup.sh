@@ -11,6 +11,7 @@ if [ -f "$NOETIC_SETUP" ]; then
     ros-noetic-geometry-msgs ros-noetic-sensor-msgs ros-noetic-nav-msgs ros-noetic-std-msgs
     ros-noetic-message-generation ros-noetic-message-runtime ros-noetic-rostest
     ros-noetic-roslaunch ros-noetic-rosservice ros-noetic-std-srvs ros-noetic-diagnostic-msgs python3-catkin-lint
+    ros-noetic-dynamic-reconfigure
     python3-numpy python3-matplotlib python3-pytest python3-hypothesis python3-venv python3-flake8
   )
 else
@@ -20,6 +21,7 @@ else
     ros-message-generation ros-message-runtime ros-std-msgs ros-trajectory-msgs ros-geometry-msgs
     ros-sensor-msgs ros-nav-msgs python3-trajectory-msgs python3-geometry-msgs
     python3-sensor-msgs python3-nav-msgs python3-std-msgs python3-std-srvs python3-diagnostic-msgs catkin-lint
+    python3-dynamic-reconfigure libdynamic-reconfigure-config-init-mutex-dev
     python3-numpy python3-matplotlib python3-pytest python3-hypothesis python3-venv python3-flake8
   )
 fi
