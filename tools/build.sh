@@ -1,17 +1,23 @@
 #!/usr/bin/env bash
 # Builds the private catkin workspace of this clone (WORKSPACE_DIR, tools/common.sh) with this
-# package (and, where the system has no
-# control_msgs, the package's own minimal control_msgs). Run tools/setup.sh first.
+# package (and, where the system has no control_msgs or no naoqi_bridge_msgs, the package's own
+# minimal copies of them, in tools/). Run tools/setup.sh first.
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 
 mkdir -p "$WORKSPACE_DIR/src"
 ln -sfn "$REPO_DIR" "$WORKSPACE_DIR/src/cssr_system"
-if /usr/bin/python3 -c 'import control_msgs.msg' 2>/dev/null && [ ! -L "$WORKSPACE_DIR/src/control_msgs" ]; then
-  rm -f "$WORKSPACE_DIR/src/control_msgs"
-else
-  ln -sfn "$REPO_DIR/tools/control_msgs" "$WORKSPACE_DIR/src/control_msgs"
-fi
+# Link tools/<name> into the workspace unless the system has the message package <name> (the link
+# itself, once built, makes the import work: a link already there stays).
+link_unless_installed() {
+  if /usr/bin/python3 -c "import $1.msg" 2>/dev/null && [ ! -L "$WORKSPACE_DIR/src/$1" ]; then
+    rm -f "$WORKSPACE_DIR/src/$1"
+  else
+    ln -sfn "$REPO_DIR/tools/$1" "$WORKSPACE_DIR/src/$1"
+  fi
+}
+link_unless_installed control_msgs
+link_unless_installed naoqi_bridge_msgs
 # catkin caches an empty PYTHONPATH on a first configure unless this folder already exists.
 mkdir -p "$WORKSPACE_DIR/devel/lib/python3/dist-packages"
 

@@ -49,6 +49,11 @@ check, unless the goal time leaves a period or two to settle.  A verdict does no
 
 Base (`MoveToBase`, `VelocityBase`): see their docstrings.  The heading is unwrapped (radians,
 counter-clockwise positive) and the base never translates.
+
+Drivers (`SimulatedPepper`'s `driver`): what moves the joints.  IDEAL: the controllers' hardware as above;
+NAOQI_DCM: the physical robot's naoqi_dcm_driver executing the controllers' commands (`NaoqiDcmDriver`);
+NAOQI_DRIVER: the robot's other driver, naoqi_driver, executing ``/joint_angles`` messages
+(naoqi_bridge_msgs/JointAnglesWithSpeed) as ALMotion setAngles does (`NaoqiDriver`).
 """
 import math
 from collections import OrderedDict
@@ -734,8 +739,14 @@ class JointStateSample(NamedTuple):
     velocities: List[float]
 
 
-IDEAL, NAOQI_DCM = "ideal", "naoqi_dcm"
-DRIVERS = (IDEAL, NAOQI_DCM)
+IDEAL, NAOQI_DCM, NAOQI_DRIVER = "ideal", "naoqi_dcm", "naoqi_driver"
+DRIVERS = (IDEAL, NAOQI_DCM, NAOQI_DRIVER)
+
+# Why naoqi_driver would refuse a /joint_angles message (`joint_angles_problem`), one kind each.
+LENGTHS_DIFFER = "joint_names and joint_angles differ in length"
+UNKNOWN_JOINT = "unknown joint"
+NOT_FINITE = "a value is not finite"
+SPEED_OUT_OF_RANGE = "speed outside (0, 1]"
 
 
 class NaoqiDcmDriver:
@@ -776,9 +787,74 @@ class NaoqiDcmDriver:
         self._time = t
 
 
+def joint_angles_problem(names: Sequence[str], angles: Sequence[float], speed: float,
+                         known: Any = JOINTS) -> Optional[str]:
+    """Why a setAngles call (names, angles, speed) is invalid (LENGTHS_DIFFER, UNKNOWN_JOINT, NOT_FINITE,
+    SPEED_OUT_OF_RANGE), or None when it is valid; `known` holds the joint names the driver moves."""
+    if len(names) != len(angles):
+        return LENGTHS_DIFFER
+    if any(name not in known for name in names):
+        return UNKNOWN_JOINT
+    if not all(math.isfinite(value) for value in list(angles) + [speed]):
+        return NOT_FINITE
+    if not 0.0 < speed <= 1.0:
+        return SPEED_OUT_OF_RANGE
+    return None
+
+
+class NaoqiDriver:
+    """naoqi_driver on ``/joint_angles``: each message is one ALMotion setAngles call, executed at once.
+
+    setAngles is non-blocking: each named joint moves from where it is toward its target (clamped into the joint
+    limits; with `relative`, the angle is added to where the joint is) at `speed` times its maximum velocity, and
+    stops there.  A later call takes over the joints it names at once; the others keep their own targets.  The
+    kinematics are exact (constant speed, then still) and evaluated in closed form at any time, so `state` changes
+    nothing.  Time only runs forward: each call's `now` is no earlier than the previous one's."""
+
+    def __init__(self, joint_names: Sequence[str], positions: Sequence[float], now: float) -> None:
+        self.joint_names = tuple(joint_names)
+        self._index = {name: index for index, name in enumerate(self.joint_names)}
+        self._lower = numpy.array([JOINTS[name].lower for name in self.joint_names])
+        self._upper = numpy.array([JOINTS[name].upper for name in self.joint_names])
+        self._max_velocity = numpy.array([JOINTS[name].max_velocity for name in self.joint_names])
+        # Per joint: where its last call found it, when, its target and its speed (rad/s).
+        self._origins = numpy.clip(numpy.array(positions, dtype=float), self._lower, self._upper)
+        self._since = numpy.full(len(self.joint_names), float(now))
+        self._targets = self._origins.copy()
+        self._speeds = numpy.zeros(len(self.joint_names))
+        self.calls = 0  # setAngles calls executed
+
+    def set_angles(self, names: Sequence[str], angles: Sequence[float], speed: float, now: float,
+                   relative: bool = False) -> None:
+        """One setAngles call at `now`; ValueError (naming the problem's kind) for an invalid one."""
+        problem = joint_angles_problem(names, angles, speed, self._index)
+        if problem is not None:
+            raise ValueError(problem)
+        index = numpy.array([self._index[name] for name in names], dtype=int)
+        current = self.state(now)[0][index]
+        targets = numpy.array(angles, dtype=float) + (current if relative else 0.0)
+        self._origins[index] = current
+        self._since[index] = now
+        self._targets[index] = numpy.clip(targets, self._lower[index], self._upper[index])
+        self._speeds[index] = speed * self._max_velocity[index]
+        self.calls += 1
+
+    def state(self, now: float) -> Tuple[numpy.ndarray, numpy.ndarray]:
+        """Positions and velocities of every joint (joint_names order) at `now`."""
+        offsets = self._targets - self._origins
+        travel = self._speeds * numpy.maximum(now - self._since, 0.0)
+        moving = travel < numpy.abs(offsets)
+        direction = numpy.sign(offsets)
+        # A joint that arrived is exactly at its target, not a rounding error away from it.
+        positions = numpy.where(moving, self._origins + direction * travel, self._targets)
+        velocities = numpy.where(moving, direction * self._speeds, 0.0)
+        return positions, velocities
+
+
 class SimulatedPepper:
     """All controllers of a platform, the fixed joints, and the base; with `driver` NAOQI_DCM, the joints move as
-    the physical robot's driver moves them (`NaoqiDcmDriver`), otherwise as the controllers' hardware reports them
+    the physical robot's driver moves them (`NaoqiDcmDriver`); with NAOQI_DRIVER, as naoqi_driver executes the
+    `joint_angles` calls (`NaoqiDriver`); otherwise (IDEAL) as the controllers' hardware reports them
     (`velocity_report`). `control_rate`, `velocity_report`, `goal_time` and `stopped_velocity_tolerance` apply to
     every controller (`SimulatedController`), which judges its goals on its own hardware, the driver or not."""
 
@@ -802,9 +878,14 @@ class SimulatedPepper:
                        if key not in self.controllers
                        for joint, position in zip(part_.joints, part_.centre)}
         self.joint_names: Tuple[str, ...] = tuple(JOINTS) + WHEEL_JOINTS
-        self.driver: Optional[NaoqiDcmDriver] = None
-        if driver == NAOQI_DCM:  # the joints (the wheels are the base's)
-            self.driver = NaoqiDcmDriver(tuple(JOINTS), self.commanded_state(now).positions[:len(JOINTS)], now)
+        self.driver: Any = None  # None (IDEAL), a NaoqiDcmDriver or a NaoqiDriver; it moves the joints, not wheels
+        start = self.commanded_state(now).positions[:len(JOINTS)]
+        if driver == NAOQI_DCM:
+            self.driver = NaoqiDcmDriver(tuple(JOINTS), start, now)
+        elif driver == NAOQI_DRIVER:
+            # The robot then runs naoqi_driver instead of pepper_dcm: the FollowJointTrajectory controllers still
+            # accept and judge goals, but nothing writes their commands to the joints; /joint_angles moves them.
+            self.driver = NaoqiDriver(tuple(JOINTS), start, now)
         if self.platform.base_kind == RELATIVE:
             self.base: Any = MoveToBase(now=now, keep_latest=moveto_keep_latest)
         else:
@@ -821,9 +902,23 @@ class SimulatedPepper:
             return self._sample(now, lambda controller: controller.reported_state(now))
         commanded = self.commanded_state(now)
         count = len(JOINTS)
-        positions, velocities = self.driver.update(commanded.positions[:count], now)
+        if isinstance(self.driver, NaoqiDriver):
+            positions, velocities = self.driver.state(now)
+        else:
+            positions, velocities = self.driver.update(commanded.positions[:count], now)
         return JointStateSample(commanded.names, positions.tolist() + commanded.positions[count:],
                                 velocities.tolist() + commanded.velocities[count:])
+
+    def joint_angles(self, names: Sequence[str], angles: Sequence[float], speed: float, relative: int,
+                     now: float) -> Optional[str]:
+        """Execute one /joint_angles message (driver NAOQI_DRIVER only; a nonzero `relative` adds the angles to
+        the current ones): None, or the kind of problem for which it was ignored (`joint_angles_problem`)."""
+        if not isinstance(self.driver, NaoqiDriver):
+            raise RuntimeError("joint_angles needs the {} driver".format(NAOQI_DRIVER))
+        problem = joint_angles_problem(names, angles, speed)
+        if problem is None:
+            self.driver.set_angles(names, angles, speed, now, relative=bool(relative))
+        return problem
 
     def commanded_state(self, now: float) -> JointStateSample:
         """What the controllers command for every joint (JOINTS order, then the wheels): their desired state."""

@@ -10,8 +10,11 @@ Parameters (private):
                        dropped; true: the latest of them runs when the base is free (a queue of one)
   ~feedback_rate       Hz of action feedback for active goals (default 10; 0: none): the last control update's
                        desired and reported state and their difference, in the controller's joint order
-  ~driver              "ideal" (default: the joints move exactly as the controllers command) or "naoqi_dcm" (as the
-                       physical robot's driver moves them: 12 Hz writes, 0.09 rad dead band, 20 % speed)
+  ~driver              "ideal" (default: the joints move exactly as the controllers command), "naoqi_dcm" (as the
+                       physical robot's driver moves them: 12 Hz writes, 0.09 rad dead band, 20 % speed) or
+                       "naoqi_driver" (the robot runs naoqi_driver: /joint_angles messages move the joints, each
+                       executed at once as ALMotion setAngles; the controllers still accept and judge goals, but
+                       their commands move nothing)
   ~control_rate        Hz of the controllers' control loop, whose updates judge the goals (default 50; the robot's
                        driver runs its controllers at 12)
   ~velocity_report     the joint velocity the controllers' hardware reports: "measured" (default: the change of the
@@ -27,13 +30,17 @@ Serves:
   <ns>/<Name>_controller/follow_joint_trajectory   control_msgs/FollowJointTrajectory (ActionServer)
   <ns>/<Name>_controller/command                   trajectory_msgs/JointTrajectory (subscribed, obeyed like a goal)
   <ns>/cmd_moveto or <ns>/cmd_vel                  geometry_msgs/Twist (subscribed)
+  /joint_angles        naoqi_bridge_msgs/JointAnglesWithSpeed (subscribed with ~driver naoqi_driver); a message
+                       whose lengths differ, that names an unknown joint, has a speed outside (0, 1] or a value that
+                       is not finite is ignored, with one warning for the first message of each kind
 Publishes:
   /joint_states        sensor_msgs/JointState, 50 Hz, every joint and the wheels, as the controllers' hardware reports
                        them at their latest update (~velocity_report; with "commanded", the desired state now;
-                       with ~driver naoqi_dcm, what the driver executes)
+                       with ~driver naoqi_dcm or naoqi_driver, what the driver executes)
   <ns>/odom            nav_msgs/Odometry, 50 Hz, base heading (frame odom, child base_footprint)
   ~limit_violations    std_msgs/UInt32, latched: goal point values beyond a joint limit so far
-  ~commanded_joint_states  sensor_msgs/JointState, 50 Hz, with ~driver naoqi_dcm: what the controllers command
+  ~commanded_joint_states  sensor_msgs/JointState, 50 Hz, with ~driver naoqi_dcm or naoqi_driver: what the
+                       controllers command
 """
 import functools
 import threading
@@ -44,6 +51,7 @@ import rospy
 from control_msgs.msg import (FollowJointTrajectoryAction, FollowJointTrajectoryFeedback,
                               FollowJointTrajectoryResult)
 from geometry_msgs.msg import Twist
+from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 from std_msgs.msg import UInt32
@@ -54,11 +62,12 @@ from cssr_system.pepper.simulated_pepper import (CONTROL_RATE, GOAL_TIME, MEASUR
                                                  STOPPED_VELOCITY_TOLERANCE, SUCCESSFUL, GoalPoint, GoalTolerances,
                                                  SimulatedPepper, action_namespace, base_topic,
                                                  check_loop_settings, odometry_topic, yaw_quaternion, DRIVERS,
-                                                 IDEAL)
+                                                 IDEAL, NAOQI_DRIVER)
 
 NODE_NAME = "simulatedPepper"
 UPDATE_RATE = 50.0  # Hz: stepping the model (its control loop catches up), /joint_states and odometry
 MAX_VIOLATIONS_LOGGED = 4  # per goal, so one bad goal makes one readable warning
+JOINT_ANGLES_TOPIC = "/joint_angles"  # naoqi_driver's setAngles topic
 
 
 class SimulatedPepperNode:
@@ -101,6 +110,11 @@ class SimulatedPepperNode:
                              functools.partial(self.on_command, key), queue_size=10)
             for key in self.model.controllers]
         self.base_subscriber = rospy.Subscriber(base_topic(self.platform), Twist, self.on_twist, queue_size=10)
+        self._joint_angle_problems = set()  # kinds of invalid /joint_angles messages already warned about
+        self.joint_angles_subscriber = None
+        if driver == NAOQI_DRIVER:
+            self.joint_angles_subscriber = rospy.Subscriber(JOINT_ANGLES_TOPIC, JointAnglesWithSpeed,
+                                                            self.on_joint_angles, queue_size=10)
         self._joint_state = JointState(name=list(self.model.joint_names))
         self._odometry = Odometry()
         self._odometry.header.frame_id = "odom"
@@ -224,6 +238,20 @@ class SimulatedPepperNode:
         else:
             rospy.logdebug("%s: %s angular.z %.4f: %s", NODE_NAME, base_topic(self.platform), message.angular.z,
                            reply)
+
+    # -- naoqi_driver ---------------------------------------------------------------------------
+    def on_joint_angles(self, message: JointAnglesWithSpeed) -> None:
+        with self._lock:
+            problem = self.model.joint_angles(message.joint_names, message.joint_angles, message.speed,
+                                              message.relative, self._now())
+        if problem is None:
+            return
+        # A sender streams at 10 Hz or more: one line per kind of problem, not one per message.
+        if problem not in self._joint_angle_problems:
+            self._joint_angle_problems.add(problem)
+            rospy.logwarn("%s: ignored a %s message (%s): joints %s, angles %s, speed %s; further messages with "
+                          "this problem are ignored silently", NODE_NAME, JOINT_ANGLES_TOPIC, problem,
+                          list(message.joint_names), list(message.joint_angles), message.speed)
 
     # -- update loop ---------------------------------------------------------------------------
     def on_tick(self, event) -> None:
