@@ -3,7 +3,8 @@ from actionlib_msgs.msg import GoalID, GoalStatus, GoalStatusArray
 from geometry_msgs.msg import Twist, Vector3
 
 from cssr_system.animate_behaviour.node.events import ForeignGoal, ForeignResult, ForeignTwist
-from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch, caller_of_goal
+from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch
+from cssr_system.animate_behaviour.rospy_compat import caller_of_goal
 
 ACTION = "/pepper_dcm/RightArm_controller/follow_joint_trajectory"
 

@@ -7,6 +7,7 @@ NODE_NAME = "animateBehaviour"
 SERVICE_NAME = NODE_NAME + "/setActivation"  # relative: a namespace applies
 SERVICE_PATH = "/" + SERVICE_NAME  # where it is when the node runs in the root namespace
 SET_ENABLED_SERVICE_NAME = NODE_NAME + "/set_enabled"  # std_srvs/SetBool, the ROS NAOqi wrappers' convention
+ANIMATE_ACTION_NAME = NODE_NAME + "/animate"  # cssr_system/Animate (README: "The animate action")
 STATUS_TOPIC = NODE_NAME + "/status"  # cssr_system/AnimateBehaviourStatus, latched
 DIAGNOSTICS_TOPIC = "/diagnostics"  # diagnostic_msgs/DiagnosticArray
 
@@ -44,9 +45,13 @@ ERROR = "error"  # where, message
 NODE_STOPPED = "node_stopped"  # reason
 PART_YIELDED = "part_yielded"  # part, controller, caller, kind (goal, command or twist)
 PART_RESUMED = "part_resumed"  # part, controller, caller, seconds (how long it yielded)
+SETTING_CHANGED = "setting_changed"  # key, old, new, by (who asked: README "Live settings")
+ANIMATE_GOAL = "animate_goal"  # outcome (accepted: by, duration; succeeded or preempted: animated, reason)
 LOG_EVENTS = (NODE_STARTED, CONFIGURATION_LOADED, CONFIGURATION_INVALID, ACTIVATION_REQUEST, BEHAVIOUR_STARTED,
               BEHAVIOUR_ENDED, GOAL_SENT, GOAL_FINISHED, CONTROLLER_CONNECTED, CONTROLLER_WAITING, CONTROLLER_LOST,
               BASE_COMMAND,
-              PART_YIELDED, PART_RESUMED, ERROR, NODE_STOPPED)
+              PART_YIELDED, PART_RESUMED, SETTING_CHANGED, ANIMATE_GOAL, ERROR, NODE_STOPPED)
 JOINT_STATES_TOPIC = "joint_states"  # relative: resolves to /joint_states
-NODE_PARAMETERS = ("configFile", "logFile")  # private parameters that are not configuration keys
+# Private parameters that are not overrides of configuration keys: the node's own, and dynamic_reconfigure's
+# names of the live settings (live_settings.SETTING_KEYS).
+NODE_PARAMETERS = ("configFile", "logFile", "intensity", "tempo", "style", "arms", "hands", "leg", "base")

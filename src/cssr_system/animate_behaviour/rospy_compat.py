@@ -16,6 +16,13 @@ def caller_of(message: Any) -> str:
     return header.get("callerid", "")
 
 
+def caller_of_goal(goal_id: str) -> str:
+    """The node that sent an action goal, from its id: actionlib's clients make ids ``<node name>-<number>-<time>``
+    (an action server's status lists goals by id alone)."""
+    parts = goal_id.rsplit("-", 2)
+    return parts[0] if len(parts) == 3 and parts[0] else goal_id
+
+
 def server_ready(client) -> bool:
     """actionlib's own test in ``ActionClient.wait_for_server``, made once without waiting.
 

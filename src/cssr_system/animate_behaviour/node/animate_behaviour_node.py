@@ -15,12 +15,15 @@ from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC, NODE_NAME
 from cssr_system.animate_behaviour.event_log import BackgroundLog, EventLog, default_log_path
 from cssr_system.animate_behaviour.motion.styles import MotionStyle
 from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng
+from cssr_system.animate_behaviour.node.animate_action import AnimateActionServer
 from cssr_system.animate_behaviour.node.base_stream import BaseStream
 from cssr_system.animate_behaviour.node.controller_watcher import ControllerWatcher
 from cssr_system.animate_behaviour.node.events import Shutdown
 from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch
 from cssr_system.animate_behaviour.node.goals import action_client, rehearse
 from cssr_system.animate_behaviour.node.joint_states import JointStateCache, JointStateFeed, SubscriptionSwitch
+from cssr_system.animate_behaviour.node.live_settings_server import LiveSettingsServer
+from cssr_system.animate_behaviour.node.parameters import load_node_configuration
 from cssr_system.animate_behaviour.node.part_stream import PartStream
 from cssr_system.animate_behaviour.node.services import ActivationServices
 from cssr_system.animate_behaviour.node.status import StatusPublisher
@@ -46,8 +49,12 @@ class AnimateBehaviourNode:
         self._switch = SubscriptionSwitch(self._subscribe_joint_states, None, self.report_error, JOINT_STATES_TOPIC)
         self.feed = JointStateFeed(self.joint_states, self._switch, rospy.logdebug)
         self.status = StatusPublisher()
+        post = self._post  # the supervisor's queue, for the servers made before it
+        self.live_settings = LiveSettingsServer(load_node_configuration, post)
+        self.action = AnimateActionServer(load_node_configuration, post)
         self.supervisor = Supervisor(self.clock, self.log, self._make_part, self._make_base, self.status.publish,
-                                     self.joint_states, self.feed, self.report_error)
+                                     self.joint_states, self.feed, self.report_error, self.action,
+                                     self.live_settings.show)
         self.services = ActivationServices(self.supervisor.events.put, self.log)
         self._watcher = ControllerWatcher(self.supervisor.part_streams, self.supervisor.events.put, self.log,
                                           self.supervisor.stopped, self.report_error)
@@ -70,11 +77,18 @@ class AnimateBehaviourNode:
         self._switch.apply()  # subscribed before the first enable, which plans from the measured joints
         self._switch.thread.start()
         self._rehearse(config, topics)
-        self.status.publish(False, self.supervisor.part_streams(), list(self.supervisor.bases.values()))
+        self.supervisor.config = config
+        self.status.publish(False, self.supervisor.part_streams(), list(self.supervisor.bases.values()), config,
+                            self.supervisor.settings_by)
         self.supervisor.thread.start()
         self._watcher.thread.start()
+        self.live_settings.start(config)
+        self.action.start()
         self.services.advertise()
         rospy.Timer(rospy.Duration(HEARTBEAT_PERIOD), lambda _event: rospy.loginfo("%s: running.", NODE_NAME))
+
+    def _post(self, event) -> None:
+        self.supervisor.events.put(event)
 
     def _make_part(self, part: str, action: str) -> PartStream:
         self.watch.watch_controller(action)

@@ -68,3 +68,26 @@ class ForeignTwist(NamedTuple):
     topic: str
     caller: str
     twist: object  # geometry_msgs/Twist
+
+
+class Reconfigure(NamedTuple):
+    """Live settings changed (README: "Live settings"): the configuration they make, validated."""
+    config_file: str
+    config: Configuration
+    topics: Dict[str, str]
+    by: str  # who asked: "dynamic_reconfigure", ...
+
+
+class AnimateGoal(NamedTuple):
+    """A goal of the animate action, accepted by the action server's callback once its settings are valid."""
+    handle: object  # actionlib ServerGoalHandle
+    config_file: str
+    config: Configuration
+    topics: Dict[str, str]
+    duration: float  # s; 0: until cancelled
+    by: str  # the caller id of the client
+
+
+class AnimateCancel(NamedTuple):
+    """A client asked to cancel a goal of the animate action."""
+    handle: object

@@ -17,17 +17,11 @@ from actionlib_msgs.msg import GoalStatus, GoalStatusArray
 from geometry_msgs.msg import Twist
 from trajectory_msgs.msg import JointTrajectory
 
-from cssr_system.animate_behaviour.rospy_compat import caller_of
+from cssr_system.animate_behaviour.rospy_compat import caller_of, caller_of_goal
 from cssr_system.animate_behaviour.node.events import ForeignCommand, ForeignGoal, ForeignResult, ForeignTwist
 from cssr_system.pepper.joint_table import command_topic
 
 RUNNING_STATES = (GoalStatus.PENDING, GoalStatus.ACTIVE, GoalStatus.PREEMPTING, GoalStatus.RECALLING)
-
-
-def caller_of_goal(goal_id: str) -> str:
-    """The node that sent a goal: actionlib's goal ids are ``<node name>-<number>-<time>``."""
-    parts = goal_id.rsplit("-", 2)
-    return parts[0] if len(parts) == 3 and parts[0] else goal_id
 
 
 def trajectory_end(trajectory: JointTrajectory, received_at: float) -> float:

@@ -36,12 +36,15 @@ def config_file_parameter(parameters: Optional[Dict[str, object]] = None) -> str
     return os.path.abspath(str(parameters.get("configFile", shipped_configuration_path())))
 
 
-def load_node_configuration() -> Tuple[str, Configuration, Dict[str, str]]:
-    """(configuration file, configuration, topics of the selected platform); raises ConfigurationError."""
+def load_node_configuration(settings: Optional[Dict[str, object]] = None) -> Tuple[str, Configuration, Dict[str, str]]:
+    """(configuration file, configuration, topics of the selected platform), with live `settings` (configuration
+    keys) over the private parameters; raises ConfigurationError."""
     parameters = private_parameters()
     config_file = config_file_parameter(parameters)
     folder = data_dir()
-    config = load_configuration(config_file, parameter_overrides(parameters), data_dir=folder)
+    overrides = parameter_overrides(parameters)
+    overrides.update(settings or {})
+    config = load_configuration(config_file, overrides, data_dir=folder)
     try:  # validated by load_configuration; read again only if the file changed since
         topics = load_topic_map(topic_file_path(config, folder)).topics
     except TopicFileError as error:

@@ -1,12 +1,28 @@
 """The node's status (README: "Status"): the latched status topic, published at every change, and the same as ROS
 diagnostics: one DiagnosticStatus named after the node, OK while every part is where it should be, WARN while a
 part waits (a missing controller, a retry)."""
+from typing import List, Optional
+
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 
+from cssr_system.animate_behaviour.configuration import Configuration
 from cssr_system.animate_behaviour.contract import DIAGNOSTICS_TOPIC, NODE_NAME, STATUS_TOPIC
+from cssr_system.animate_behaviour.live_settings import moving_parts
 from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.msg import AnimateBehaviourStatus, PartStatus
+
+
+def part_rows(part_streams, base_streams) -> tuple:
+    """(part, controller, state, yielding_to) of each part and of the base."""
+    parts = tuple((stream.part, stream.action, stream.state.value, stream.yielding_to) for stream in part_streams)
+    return parts + tuple((WHEELS_KEY, base.topic, base.state.value, base.yielding_to) for base in base_streams)
+
+
+def part_statuses(rows) -> List[PartStatus]:
+    """The `part_rows` as messages (the status topic's and the animate action's feedback's `parts`)."""
+    return [PartStatus(part=part, controller=controller, state=state, yielding_to=caller)
+            for part, controller, state, caller in rows]
 
 
 class StatusPublisher:
@@ -15,16 +31,17 @@ class StatusPublisher:
         self._diagnostics = rospy.Publisher(DIAGNOSTICS_TOPIC, DiagnosticArray, queue_size=1)
         self._published = None
 
-    def publish(self, enabled: bool, part_streams, base_streams) -> None:
-        """Publishes when anything changed since the last time."""
-        parts = tuple((stream.part, stream.action, stream.state.value, stream.yielding_to) for stream in part_streams)
-        parts += tuple((WHEELS_KEY, base.topic, base.state.value, base.yielding_to) for base in base_streams)
-        if (enabled, parts) == self._published:
+    def publish(self, enabled: bool, part_streams, base_streams, settings: Optional[Configuration] = None,
+                by: str = "") -> None:
+        """Publishes when anything changed since the last time. `settings`: the configuration in force."""
+        rows = part_rows(part_streams, base_streams)
+        if (enabled, rows, settings, by) == self._published:
             return
-        self._published = (enabled, parts)
-        message = AnimateBehaviourStatus(enabled=enabled, parts=[
-            PartStatus(part=part, controller=controller, state=state, yielding_to=caller)
-            for part, controller, state, caller in parts])
+        self._published = (enabled, rows, settings, by)
+        message = AnimateBehaviourStatus(enabled=enabled, settings_by=by, parts=part_statuses(rows))
+        if settings is not None:
+            message.intensity, message.tempo = settings.intensity, settings.breaths_per_minute
+            message.motion_style, message.moving_parts = settings.motion_style, moving_parts(settings)
         message.header.stamp = rospy.Time.now()
         self._status.publish(message)
         self._diagnostics.publish(status_diagnostics(message))

@@ -16,15 +16,19 @@ import rospy
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import Configuration, configuration_items
 from cssr_system.animate_behaviour.contract import NODE_NAME
+from cssr_system.animate_behaviour.live_settings import changed_settings
 from cssr_system.animate_behaviour.motion.styles import MotionStyle
 from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng, narrow_bands
+from cssr_system.animate_behaviour.node.animate_action import (CANCELLED, DISABLED, DURATION_ELAPSED, REPLACED,
+                                                               Session)
 from cssr_system.animate_behaviour.node.base_stream import BaseStream
-from cssr_system.animate_behaviour.node.events import (ControllerConnected, ControllerLost, Disable, Enable,
-                                                       ForeignCommand, ForeignGoal, ForeignResult, ForeignTwist,
-                                                       GoalDone, Shutdown)
+from cssr_system.animate_behaviour.node.events import (AnimateCancel, AnimateGoal, ControllerConnected, ControllerLost,
+                                                       Disable, Enable, ForeignCommand, ForeignGoal, ForeignResult,
+                                                       ForeignTwist, GoalDone, Reconfigure, Shutdown)
 from cssr_system.animate_behaviour.node.foreign_motion import GOAL
 from cssr_system.animate_behaviour.node.joint_states import FeedState
 from cssr_system.animate_behaviour.node.part_stream import PartStream
+from cssr_system.animate_behaviour.node.status import part_rows, part_statuses
 from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, PARTS
 
@@ -37,11 +41,14 @@ class Supervisor:
     `clock`: the clock the controllers execute goals on; `log`: the event log; `make_part(part, action)` and
     `make_base(topic)`: new streams (with their clients and watches); `publish_status(enabled, parts, bases)`;
     `joint_states`: the measured joints (`complete(joints)`); `feed`: whether /joint_states is listened to;
-    `report_error(where, error)`: an unexpected error, in one line."""
+    `report_error(where, error)`: an unexpected error, in one line; `action`: ends the animate action's goals and
+    publishes their feedback (node/animate_action.py); `sync_settings(config)`: tells dynamic_reconfigure the
+    live settings a service or the action brought."""
 
     def __init__(self, clock: Callable[[], float], log, make_part: Callable[[str, str], PartStream],
                  make_base: Callable[[str], BaseStream], publish_status: Callable[..., None], joint_states, feed,
-                 report_error: Callable[[str, Exception], None]) -> None:
+                 report_error: Callable[[str, Exception], None], action=None,
+                 sync_settings: Callable[[Configuration], None] = lambda config: None) -> None:
         self.events: "queue.Queue" = queue.Queue()
         self.clock = clock
         self.log = log
@@ -51,6 +58,10 @@ class Supervisor:
         self._joint_states = joint_states
         self._feed = feed
         self._report_error = report_error
+        self._action = action
+        self._sync_settings = sync_settings
+        self.session: Optional[Session] = None  # the animate action's goal in force
+        self.settings_by = "configuration"  # who set the live settings in force
         self.parts: Dict[str, PartStream] = {}  # by action namespace: one client each, kept for life
         self._parts_lock = threading.Lock()  # the watcher reads `parts` while the supervisor adds
         self.bases: Dict[str, BaseStream] = {}
@@ -66,7 +77,8 @@ class Supervisor:
                           GoalDone: self._on_goal_done, ControllerConnected: self._on_controller_connected,
                           ControllerLost: self._on_controller_lost, ForeignGoal: self._on_foreign_goal,
                           ForeignResult: self._on_foreign_result, ForeignCommand: self._on_foreign_command,
-                          ForeignTwist: self._on_foreign_twist}
+                          ForeignTwist: self._on_foreign_twist, Reconfigure: self._on_reconfigure,
+                          AnimateGoal: self._on_animate_goal, AnimateCancel: self._on_animate_cancel}
 
     # -- streams ------------------------------------------------------------------------------------
     def stream_for(self, part: str, action: str) -> PartStream:
@@ -103,7 +115,8 @@ class Supervisor:
             if event is not None:
                 self._handlers[type(event)](event)
             self._tick()
-            self._publish_status(self.enabled, self.part_streams(), list(self.bases.values()))
+            self._publish_status(self.enabled, self.part_streams(), list(self.bases.values()), self.config,
+                                 self.settings_by)
             self._update_feed()
         except Exception as error:  # the supervisor must survive anything a callback brings
             self._report_error("supervisor", error)
@@ -115,6 +128,7 @@ class Supervisor:
         now = self.clock()
         deadlines = [stream.next_deadline() for stream in self.parts.values()]
         deadlines += [base.next_deadline(now) for base in self.bases.values()]
+        deadlines += [self.session.next_deadline()] if self.session is not None else []
         deadlines = [deadline - now for deadline in deadlines if deadline is not None]
         if not deadlines and not self.enabled and self._feed.state == FeedState.RESTING:
             return None  # at rest nothing is due until an event comes: no wake-ups while nothing moves
@@ -126,6 +140,8 @@ class Supervisor:
         now = self.clock()
         for base in self.bases.values():
             base.tick(now)
+        if self.session is not None:
+            self._tick_session(now)
 
     def _update_feed(self) -> None:
         """/joint_states is listened to while the joints may move (node/joint_states.py)."""
@@ -148,16 +164,65 @@ class Supervisor:
 
     # -- events -------------------------------------------------------------------------------------
     def _on_enable(self, event: Enable) -> None:
-        self._enable(event.config_file, event.config, event.topics)
+        self._enable(event.config_file, event.config, event.topics, "setActivation")
         event.done.set()
+        self._end_session(REPLACED)
+        self._sync_settings(event.config)
 
     def _on_disable(self, event: Disable) -> None:
         was_enabled = self._disable()
         event.done.set()  # the robot is told to stop: the caller's reply need not wait for the lines below
         self._report_disabled(was_enabled, event.reason)
+        self._end_session(DISABLED)
 
     def _on_shutdown(self, event: Shutdown) -> None:
         self._report_disabled(self._disable(), event.reason)
+        self._end_session(DISABLED)
+
+    def _on_reconfigure(self, event: Reconfigure) -> None:
+        """Live settings changed: applied at once while enabled (a stream's new goal splices onto its motion),
+        kept for the next enable otherwise."""
+        if self.enabled:
+            self._enable(event.config_file, event.config, event.topics, event.by)
+        else:
+            self._log_settings(event.config, event.by)
+            self.config = event.config
+
+    # -- the animate action -------------------------------------------------------------------------
+    def _on_animate_goal(self, event: AnimateGoal) -> None:
+        self._end_session(REPLACED)
+        self._action.accept(event.handle)
+        self.session = Session(event.handle, self.clock(), event.duration)
+        self.log.write(contract.ANIMATE_GOAL, outcome="accepted", by=event.by, duration=event.duration)
+        self._enable(event.config_file, event.config, event.topics, event.by)
+        self._sync_settings(event.config)
+
+    def _on_animate_cancel(self, event: AnimateCancel) -> None:
+        if self.session is None or self.session.handle != event.handle:
+            return  # a goal that has ended already (replaced, say)
+        self._report_disabled(self._disable(), CANCELLED)
+        self._end_session(CANCELLED)
+
+    def _tick_session(self, now: float) -> None:
+        session = self.session
+        if session.home_due(now):
+            session.homing = True
+            self._report_disabled(self._disable(), DURATION_ELAPSED)
+        if session.succeeds(now, any(stream.active for stream in self.parts.values())):
+            self._end_session(DURATION_ELAPSED)
+        elif session.feedback_due(now):
+            self._action.feedback(session.handle, now - session.started,
+                                  part_statuses(part_rows(self.part_streams(), list(self.bases.values()))))
+
+    def _end_session(self, reason: str) -> None:
+        """The action's goal in force, if any, ends: SUCCEEDED when its duration elapsed, else PREEMPTED."""
+        session, self.session = self.session, None
+        if session is None:
+            return
+        animated = max(0.0, self.clock() - session.started)
+        (self._action.succeed if reason == DURATION_ELAPSED else self._action.stop)(session.handle, animated, reason)
+        self.log.write(contract.ANIMATE_GOAL, outcome="succeeded" if reason == DURATION_ELAPSED else "preempted",
+                       animated=round(animated, 3), reason=reason)
 
     def _on_goal_done(self, event: GoalDone) -> None:
         stream = self.parts.get(event.action)
@@ -185,10 +250,19 @@ class Supervisor:
         self.bases[event.topic].foreign_twist(event.caller, event.twist, self.clock())
 
     # -- enable and disable -------------------------------------------------------------------------
-    def _enable(self, config_file: str, config: Configuration, topics: Dict[str, str]) -> None:
+    def _log_settings(self, config: Configuration, by: str) -> None:
+        """Each live setting that `config` changes: one setting_changed line, with who asked."""
+        if self.config is not None:
+            for key, old, new in changed_settings(self.config, config):
+                self.log.write(contract.SETTING_CHANGED, key=key, old=old, new=new, by=by)
+                rospy.loginfo("%s: %s %s -> %s (%s).", NODE_NAME, key, old, new, by)
+        self.settings_by = by
+
+    def _enable(self, config_file: str, config: Configuration, topics: Dict[str, str], by: str) -> None:
         reconfigured = self.enabled
         if config.random_seed is not None or self.rng is None or reconfigured:
             self.rng = make_rng(config.random_seed)
+        self._log_settings(config, by)
         self.config = config
         apply_verbosity(config)
         self.log.write(contract.CONFIGURATION_LOADED, file=config_file, items=configuration_items(config))
@@ -209,9 +283,10 @@ class Supervisor:
 
     def _start_base(self, config: Configuration, topics: Dict[str, str], style: MotionStyle) -> Optional[str]:
         """Starts (or keeps) the base turning when the behaviour asks for rotation; its topic, or None."""
-        wheels = topics.get(WHEELS_KEY) if "rotation" in config.behaviour else None
+        wheels = topics.get(WHEELS_KEY) if "rotation" in config.behaviour and config.turn_base else None
         if self.active_base is not None and self.active_base.topic != wheels:
-            self.active_base.stop(config.home_on_disable, self.clock())
+            # Switched off, the base stops where it is; a new platform's returns as on disable.
+            self.active_base.stop(config.home_on_disable and config.turn_base, self.clock())
             self.active_base = None
         if wheels is not None:
             self.active_base = self.base_for(wheels)

@@ -1,0 +1,62 @@
+"""The live settings on dynamic_reconfigure (README: "Live settings"): a server in the node's namespace, so that
+`rosrun rqt_reconfigure rqt_reconfigure` shows them and `dynamic_reconfigure.client.Client("/animateBehaviour")`
+sets them. A change is checked as a configuration is (a value the configuration refuses, such as an unknown style,
+is refused with the reason and nothing is applied) and posted to the supervisor; what the services and the animate
+action bring is shown back through `show`.
+"""
+import threading
+from typing import Callable, Optional
+
+import rospy
+from dynamic_reconfigure.server import Server
+
+from cssr_system.animate_behaviour.configuration import Configuration, ConfigurationError
+from cssr_system.animate_behaviour.contract import NODE_NAME
+from cssr_system.animate_behaviour.live_settings import setting_overrides, setting_values
+from cssr_system.animate_behaviour.node.events import Reconfigure
+from cssr_system.cfg import AnimateBehaviourConfig
+
+BY = "dynamic_reconfigure"
+
+
+class LiveSettingsServer:
+    """`configure(settings)` gives (configuration file, configuration, topics) with these configuration keys over
+    the node's, or raises ConfigurationError; `post` puts an event on the supervisor's queue."""
+
+    def __init__(self, configure: Callable[[dict], tuple], post: Callable[[object], None]) -> None:
+        self._configure = configure
+        self._post = post
+        self._server: Optional[Server] = None
+        self._accepted: Optional[dict] = None  # the values in force
+        self._showing = threading.local()  # `on` while this thread's `show` updates the server: nothing to apply
+
+    def start(self, config: Configuration) -> None:
+        self._showing.on = True  # the server calls back once at its start
+        try:
+            self._server = Server(AnimateBehaviourConfig, self._on_change)
+        finally:
+            self._showing.on = False
+        self.show(config)
+
+    def show(self, config: Configuration) -> None:
+        """The settings in force, brought by a service or the action: rqt_reconfigure and the parameters show them."""
+        if self._server is None:
+            return
+        self._showing.on = True
+        try:
+            self._server.update_configuration(setting_values(config))
+        finally:
+            self._showing.on = False
+
+    def _on_change(self, values: dict, level: int) -> dict:
+        if getattr(self._showing, "on", False):
+            self._accepted = values
+            return values
+        try:
+            config_file, config, topics = self._configure(setting_overrides(values))
+        except ConfigurationError as error:
+            rospy.logwarn("%s: live settings refused, nothing applied: %s", NODE_NAME, error)
+            return self._accepted
+        self._accepted = values
+        self._post(Reconfigure(config_file, config, topics, BY))
+        return values
