@@ -203,13 +203,15 @@ class BreathingPlanner(Planner):
 
     def _first_point_time(self, t: float, start) -> float:
         """When the goal reaches the function: soon enough to follow it, late enough for the quintic from `start`
-        (at style time t) to stay under the cap and to accelerate no more than the style does."""
+        (at style time t) to stay under the cap and to accelerate no more than the style does (or than the part
+        already does)."""
         first = POINT_SPACING
         for _ in range(3):  # the target moves with the blend time: settle it
             target, target_velocities, _ = self.function.sample(t + first)
             needed = blend_time(start[0], start[1], target, target_velocities, self.caps)
             first = max(POINT_SPACING, math.ceil(needed / POINT_SPACING) * POINT_SPACING)
-        limit = self.function.peak_acceleration
+        # No harder than the style accelerates, or than the part already does (a live change of settings).
+        limit = max(self.function.peak_acceleration, float(numpy.max(numpy.abs(start[2]), initial=0.0)))
         while first < LONGEST_BLEND and blend_acceleration(start, self.function.sample(t + first), first) > limit:
             first += POINT_SPACING
         return first

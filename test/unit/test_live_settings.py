@@ -1,0 +1,55 @@
+"""Unit tests of the live settings (live_settings.py) and of the animate action's sessions (node/animate_action.py):
+no ROS master."""
+import pytest
+from conftest import default_configuration
+
+from cssr_system.animate_behaviour.live_settings import (changed_settings, goal_overrides, moving_parts,
+                                                         setting_overrides, setting_values)
+from cssr_system.animate_behaviour.node.animate_action import FEEDBACK_PERIOD, HOME_LEAD, LONGEST_HOMING, Session
+
+
+def test_dynamic_reconfigures_names_map_onto_the_configuration_keys_and_back():
+    config = default_configuration(intensity=0.4, breaths_per_minute=9.0, motion_style="breathing", move_leg=False)
+    values = setting_values(config)
+    assert values == {"intensity": 0.4, "tempo": 9.0, "style": "breathing", "arms": True, "hands": True,
+                      "leg": False, "base": True}
+    overrides = setting_overrides(dict(values, groups={"name": "Default"}))
+    assert overrides == {"intensity": 0.4, "breathsPerMinute": 9.0, "motionStyle": "breathing", "moveArms": True,
+                         "moveHands": True, "moveLeg": False, "turnBase": True}
+
+
+def test_changes_are_listed_as_the_configuration_file_writes_them():
+    old, new = default_configuration(), default_configuration(intensity=0.5, turn_base=False)
+    assert changed_settings(old, new) == [("intensity", "1.0", "0.5"), ("turnBase", "true", "false")]
+    assert changed_settings(old, old) == []
+    assert moving_parts(new) == ["arms", "hands", "leg"]
+
+
+def test_an_animate_goal_becomes_overrides():
+    assert goal_overrides(["arms"], False, "breathing", 0.5, 0.0) == {
+        "moveArms": True, "moveHands": False, "moveLeg": False, "turnBase": False, "intensity": 0.5,
+        "motionStyle": "breathing"}
+    every = goal_overrides([], True, "", 1.0, 10.0)
+    assert every["moveArms"] and every["moveHands"] and every["moveLeg"] and every["turnBase"]
+    assert every["breathsPerMinute"] == 10.0 and "motionStyle" not in every, "empty style and tempo 0 keep them"
+    with pytest.raises(ValueError, match="unknown part 'head'"):
+        goal_overrides(["arms", "head"], True, "", 1.0, 0.0)
+
+
+def test_a_session_goes_home_before_its_duration_ends_and_succeeds_once_the_parts_are_home():
+    session = Session("handle", started=100.0, duration=5.0)
+    assert session.next_deadline() == pytest.approx(100.0 + FEEDBACK_PERIOD)
+    assert not session.home_due(105.0 - HOME_LEAD - 0.01)
+    assert session.home_due(105.0 - HOME_LEAD)
+    session.homing = True
+    assert not session.succeeds(105.0, parts_active=True)
+    assert session.succeeds(105.0, parts_active=False)
+    assert session.succeeds(105.0 + LONGEST_HOMING, parts_active=True), "a part that never reports home"
+
+
+def test_a_session_without_a_duration_runs_until_cancelled_and_gives_feedback_once_a_period():
+    session = Session("handle", started=0.0, duration=0.0)
+    assert not session.home_due(1.0e6) and not session.succeeds(1.0e6, parts_active=False)
+    assert not session.feedback_due(FEEDBACK_PERIOD - 0.01)
+    assert session.feedback_due(FEEDBACK_PERIOD) and not session.feedback_due(FEEDBACK_PERIOD + 0.5)
+    assert session.feedback_due(2 * FEEDBACK_PERIOD)
