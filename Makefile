@@ -2,10 +2,10 @@
 .PHONY: demo test benchmark motion-report setup build clean
 
 # make demo DURATION=10 PLATFORM=simulator BEHAVIOUR=hands OUTPUT_DIR=/tmp/demo GESTURE=1
-#           STYLE=breathing DRIVER=naoqi_dcm NODE_ARGS="_gestureDuration:=1.5" SIM_ARGS="..."
+#           STYLE=breathing DRIVER=naoqi_dcm NODE_ARGS="_gestureDuration:=1.5" SIM_ARGS="..." INTERACTION=1
 # or DEMO_DURATION, DEMO_PLATFORM, ... in the environment (the short names only from the command line:
 # environments often hold an unrelated PLATFORM).
-DEMO_OPTIONS := DURATION PLATFORM BEHAVIOUR OUTPUT_DIR GESTURE STYLE DRIVER NODE_ARGS SIM_ARGS
+DEMO_OPTIONS := DURATION PLATFORM BEHAVIOUR OUTPUT_DIR GESTURE STYLE DRIVER NODE_ARGS SIM_ARGS INTERACTION
 demo:
 	$(foreach option,$(DEMO_OPTIONS),$(if $(filter command line,$(origin $(option))),DEMO_$(option)='$(subst ','\'',$($(option)))')) \
 	bash tools/demo.sh

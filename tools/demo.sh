@@ -8,9 +8,11 @@
 #   make demo DURATION=10 PLATFORM=simulator BEHAVIOUR=hands OUTPUT_DIR=/tmp/demo GESTURE=1
 #   make demo NODE_ARGS="_gestureDuration:=1.5" SIM_ARGS="_feedback_rate:=20"
 #   make demo STYLE=breathing DRIVER=naoqi_dcm   (the breathing style, executed as the robot's driver would)
+#   make demo INTERACTION=1           half-way, the engaged preset (intensity 0.5, base still)
 # Environment (what the make variables set): DEMO_DURATION (s, default 30), DEMO_PLATFORM (robot or
 # simulator, default robot), DEMO_BEHAVIOUR (default all), DEMO_OUTPUT_DIR (default: the workspace's demo
-# folder), DEMO_GESTURE (1: a gesture on the right arm half-way), DEMO_NODE_ARGS and DEMO_SIM_ARGS
+# folder), DEMO_GESTURE (1: a gesture on the right arm half-way), DEMO_INTERACTION (1: the engaged preset
+# half-way), DEMO_NODE_ARGS and DEMO_SIM_ARGS
 # (private parameters of the node and of the simulated Pepper, `_name:=value` words; the leading `_` may
 # be left out), DEMO_MASTER_URI (default: a master of its own on a free port, so a master you run is
 # never touched).
@@ -49,11 +51,16 @@ private_parameters() {
 DEMO_NODE_ARGS=$(private_parameters "${DEMO_NODE_ARGS:-}" NODE_ARGS)
 DEMO_SIM_ARGS=$(private_parameters "${DEMO_SIM_ARGS:-}" SIM_ARGS)
 export DEMO_NODE_ARGS DEMO_SIM_ARGS
-case ${DEMO_GESTURE:-0} in
-  1|true|yes) gesture=true ;;
-  0|false|no|"") gesture=false ;;
-  *) echo "demo: error: GESTURE=${DEMO_GESTURE} (expected 1 or 0)" >&2; exit 1 ;;
-esac
+# GESTURE=1 and INTERACTION=1: true or false for the launch.
+switch() {
+  case $2 in
+    1|true|yes) echo true ;;
+    0|false|no|"") echo false ;;
+    *) echo "demo: error: $1=$2 (expected 1 or 0)" >&2; return 1 ;;
+  esac
+}
+gesture=$(switch GESTURE "${DEMO_GESTURE:-0}")
+interaction=$(switch INTERACTION "${DEMO_INTERACTION:-0}")
 output_dir=$(mkdir -p "${DEMO_OUTPUT_DIR:-$WORKSPACE_DIR/demo}" && cd "${DEMO_OUTPUT_DIR:-$WORKSPACE_DIR/demo}" && pwd)
 launch_log="$output_dir/roslaunch.log"
 outcome_file="$output_dir/demo_outcome.txt"
@@ -66,7 +73,7 @@ trap '' INT TERM
 : >"$launch_log"  # exists, empty, before the display tails it: the launch appends from its own process
 setsid roslaunch cssr_system animateBehaviourDemo.launch \
   duration:="${DEMO_DURATION:-30}" platform:="${DEMO_PLATFORM:-robot}" behaviour:="${DEMO_BEHAVIOUR:-all}" \
-  gesture:="$gesture" output_dir:="$output_dir" \
+  gesture:="$gesture" interaction:="$interaction" output_dir:="$output_dir" \
   log_file:="$output_dir/animateBehaviourLogFile.log" outcome_file:="$outcome_file" \
   </dev/null >>"$launch_log" 2>&1 &
 launch_pid=$!

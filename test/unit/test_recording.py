@@ -350,3 +350,17 @@ def test_other_nodes_goals_become_marks_from_receipt_to_result():
     results = [GoalResult(2.0, "RArm", "/animateBehaviour-1", "SUCCEEDED"), GoalResult(5.0, "RArm", "g", "PREEMPTED")]
     expected = (Mark(3.0, 5.0, "/gesture: PREEMPTED", "RArm"), Mark(8.0, 9.0, "/other: no result", "LArm"))
     assert goal_marks(goals, results, NODE, end=9.0) == expected
+
+
+def test_changes_of_live_settings_become_one_mark_each(tmp_path):
+    from cssr_system.animate_behaviour import contract
+    from cssr_system.animate_behaviour.event_log import EventLog, read_log
+    from cssr_system.animate_behaviour.recording.recording import setting_changes_from_log
+    path = str(tmp_path / "node.log")
+    log = EventLog(path)
+    log.write(contract.SETTING_CHANGED, key="intensity", old="1.0", new="0.5", by="/tree")
+    log.write(contract.SETTING_CHANGED, key="turnBase", old="true", new="false", by="/tree")
+    log.write(contract.GOAL_SENT, part="RArm")
+    log.close()
+    changes = setting_changes_from_log(read_log(path))
+    assert [text for _, text in changes] == ["intensity 1.0 -> 0.5, turnBase true -> false"]

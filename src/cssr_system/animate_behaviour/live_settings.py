@@ -12,6 +12,9 @@ from cssr_system.animate_behaviour.configuration import KEYS, Configuration, con
 SETTING_KEYS = {"intensity": "intensity", "tempo": "breathsPerMinute", "style": "motionStyle", "arms": "moveArms",
                 "hands": "moveHands", "leg": "moveLeg", "base": "turnBase"}
 LIVE_KEYS = tuple(SETTING_KEYS.values())
+# Two settings for an interaction (README: "Keeping the robot alive through a visit"), by dynamic_reconfigure's
+# names: moving a little, with the base still, while the robot speaks to someone; moving fully while it waits.
+PRESETS = {"engaged": {"intensity": 0.5, "base": False}, "waiting": {"intensity": 1.0, "base": True}}
 # The animate action's names of the parts it switches, and their keys.
 PART_SWITCHES = (("arms", "moveArms"), ("hands", "moveHands"), ("leg", "moveLeg"))
 BASE_SWITCH = ("base", "turnBase")

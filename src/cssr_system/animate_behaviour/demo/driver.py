@@ -26,6 +26,7 @@ import threading
 import time
 from typing import Callable, List, Optional, Tuple
 
+import dynamic_reconfigure.client
 import rosgraph
 import rospy
 from nav_msgs.msg import Odometry
@@ -37,7 +38,8 @@ from cssr_system.animate_behaviour.demo import console
 from cssr_system.animate_behaviour.contract import (DISABLED, ENABLED, REPLY_SUCCESS, SERVICE_PATH,
                                                     STATUS_TOPIC)
 from cssr_system.animate_behaviour.demo.gesture import PLAY_TOPIC
-from cssr_system.animate_behaviour.demo.live_lines import DISABLE, GESTURE, LiveWindow, schedule, status_line
+from cssr_system.animate_behaviour.demo.live_lines import DISABLE, ENGAGED, GESTURE, LiveWindow, schedule, status_line
+from cssr_system.animate_behaviour.live_settings import PRESETS
 from cssr_system.animate_behaviour.event_log import read_log
 from cssr_system.animate_behaviour.recording.recording import (RunSetting, run_setting, yaw_from_quaternion,
                                                                BASE_LABEL)
@@ -76,8 +78,8 @@ def records_the_node(recorder: str, node: str = "/" + contract.NODE_NAME) -> boo
 
 class DemoDriver:
     def __init__(self, duration: float, tail: float, gesture: bool, recorder: str, startup_timeout: float,
-                 setting: Optional[RunSetting], heading_topic: str) -> None:
-        self.duration, self.tail, self.gesture = duration, tail, gesture
+                 setting: Optional[RunSetting], heading_topic: str, interaction: bool = False) -> None:
+        self.duration, self.tail, self.gesture, self.interaction = duration, tail, gesture, interaction
         self.recorder, self.startup_timeout = recorder, startup_timeout
         self.setting, self.heading_topic = setting, heading_topic
         self.window = LiveWindow()
@@ -93,6 +95,15 @@ class DemoDriver:
         rospy.Subscriber(STATUS_TOPIC, AnimateBehaviourStatus, self._on_status, queue_size=10)
 
     # -- callbacks and stop requests ------------------------------------------------------------
+    def engage(self) -> None:
+        """The engaged preset, as a behaviour tree would switch to it while the robot speaks to someone."""
+        say("switching to the engaged preset: %s" % ", ".join("%s %s" % item for item in PRESETS["engaged"].items()))
+        try:
+            client = dynamic_reconfigure.client.Client("/" + contract.NODE_NAME, timeout=SERVICE_CALL_TIMEOUT)
+            client.update_configuration(PRESETS["engaged"])
+        except Exception as error:  # the demo goes on; the plot shows that nothing changed
+            say("error: the engaged preset was not applied: %s" % error)
+
     def _on_joint_states(self, message: JointState) -> None:
         self.window.add_joint_states(time.time(), message.name, message.position)
 
@@ -199,9 +210,11 @@ class DemoDriver:
         self.enable()
         enabled_at = time.monotonic()
         state = ENABLED
-        for moment, what in schedule(self.duration, self.tail, self.gesture):
+        for moment, what in schedule(self.duration, self.tail, self.gesture, self.interaction):
             self.pause(enabled_at + moment - time.monotonic())
-            if what == DISABLE:
+            if what == ENGAGED:
+                self.engage()
+            elif what == DISABLE:
                 self.disable_if_enabled()
                 state = DISABLED
                 say("disabled after %g s; recording %g s more to show the stop" % (self.duration, self.tail))
@@ -241,7 +254,8 @@ def main() -> int:
     heading_topic = odometry_topic(PLATFORMS[platform if platform in PLATFORMS else "robot"])
     driver = DemoDriver(duration, tail, bool(rospy.get_param("~gesture", False)),
                         str(rospy.get_param("~recorder", "/animateBehaviourRecorder")),
-                        float(rospy.get_param("~startup_timeout", 40.0)), setting, heading_topic)
+                        float(rospy.get_param("~startup_timeout", 40.0)), setting, heading_topic,
+                        bool(rospy.get_param("~interaction", False)))
     signal.signal(signal.SIGINT, driver.on_signal)
     signal.signal(signal.SIGTERM, driver.on_signal)
     rospy.core.add_preshutdown_hook(driver.on_ros_shutdown)

@@ -80,15 +80,18 @@ def status_line(seconds: int, state: str, joint_names: Sequence[str], positions:
     return line
 
 
-LINE, GESTURE, DISABLE = "line", "gesture", "disable"
+LINE, GESTURE, DISABLE, ENGAGED = "line", "gesture", "disable", "engaged"
 
 
-def schedule(duration: float, tail: float, gesture: bool) -> List[Tuple[float, str]]:
+def schedule(duration: float, tail: float, gesture: bool, interaction: bool = False) -> List[Tuple[float, str]]:
     """(seconds after enable, what) of a run: a line every second until `duration` + `tail`, the
-    gesture half-way when asked, the disable at `duration` (after that second's line)."""
+    gesture half-way when asked, the switch to the engaged preset half-way when asked, the disable at
+    `duration` (after that second's line)."""
     events = [(float(second), LINE) for second in range(1, int(duration + tail) + 1)]
     events.append((duration, DISABLE))
     if gesture:
         events.append((duration / 2.0, GESTURE))
-    rank = {LINE: 0, GESTURE: 1, DISABLE: 2}
+    if interaction:
+        events.append((duration / 2.0, ENGAGED))
+    rank = {LINE: 0, ENGAGED: 1, GESTURE: 2, DISABLE: 3}
     return sorted(events, key=lambda event: (event[0], rank[event[1]]))

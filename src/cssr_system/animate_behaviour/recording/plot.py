@@ -120,7 +120,8 @@ def plot_recording(recording: Recording, output_path: str, title: Optional[str] 
         key.append(Line2D([], [], color="grey", linewidth=1.1, linestyle="--",
                           label="commanded by %s (dashed, darker shade of the joint's colour)" % source))
     if recording.marks:
-        key.append(Patch(facecolor=MARK_COLOUR, alpha=MARK_ALPHA, label="another node's goal (label: sender, result)"))
+        key.append(Patch(facecolor=MARK_COLOUR, alpha=MARK_ALPHA,
+                         label="another node's goal (label: sender, result), or a change of settings"))
     key_rows = 1 if len(key) <= 4 else 2
     figure.legend(handles=key, loc="upper center", ncol=int(math.ceil(len(key) / float(key_rows))), fontsize=9,
                   frameon=False, bbox_to_anchor=(0.5, 0.965))

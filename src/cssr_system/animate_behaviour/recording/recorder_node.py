@@ -40,11 +40,11 @@ from cssr_system.animate_behaviour.event_log import read_log
 from cssr_system.animate_behaviour.recording.commanded import (CancelRequest, GoalResult, SentGoal, commanded_by,
                                                                controller_pieces, goal_marks)
 from cssr_system.animate_behaviour.recording.plot import plot_recording
-from cssr_system.animate_behaviour.recording.recording import (PLOT_FILE_NAME, RECORDING_FILE_NAME, Recording,
-                                                               RunSetting, activations_from_log,
-                                                               bands_from_configuration_file, bands_from_log,
-                                                               run_setting, unwrap_heading, write_recording,
-                                                               yaw_from_quaternion)
+from cssr_system.animate_behaviour.recording.recording import (PLOT_FILE_NAME, RECORDING_FILE_NAME,
+                                                               SETTING_MARK_WIDTH, Mark, Recording, RunSetting,
+                                                               activations_from_log, bands_from_configuration_file,
+                                                               bands_from_log, run_setting, setting_changes_from_log,
+                                                               unwrap_heading, write_recording, yaw_from_quaternion)
 from cssr_system.animate_behaviour.node.goals import goal_state_name
 from cssr_system.animate_behaviour.rospy_compat import caller_of
 from cssr_system.pepper.joint_table import PARTS, WHEEL_JOINTS
@@ -167,6 +167,9 @@ class RunRecorder:
         end = float(times[-1]) if len(times) else 0.0
         marks = tuple(mark._replace(start=mark.start - first, end=mark.end - first)
                       for mark in goal_marks(goals, results, self.node, end))
+        origin = self.start_epoch + first
+        marks += tuple(Mark(epoch - origin, epoch - origin + SETTING_MARK_WIDTH, text)
+                       for epoch, text in setting_changes_from_log(log_entries, since))
         info = {}  # type: Dict[str, str]
         if self.setting is not None:
             info = {"platform": self.setting.platform, "behaviour": self.setting.behaviour,

@@ -362,6 +362,27 @@ def activations_from_log(entries: Iterable[Any], since: Optional[float] = None,
     return found
 
 
+SETTING_MARK_WIDTH = 0.3  # s: a change of live settings is an instant; its mark is drawn this wide
+SAME_CHANGE = 0.1  # s: setting_changed lines this close belong to one change
+
+
+def setting_changes_from_log(entries: Iterable[Any], since: Optional[float] = None,
+                             until: Optional[float] = None) -> List[Tuple[float, str]]:
+    """(epoch, "intensity 1.0 -> 0.5, turnBase true -> false") of each change of live settings in the node's log
+    (``setting_changed`` lines, those of one change joined)."""
+    changes: List[Tuple[float, str]] = []
+    for entry in entries:
+        if entry.event != contract.SETTING_CHANGED or not _in_window(entry.timestamp, since, until):
+            continue
+        epoch = entry.timestamp.timestamp()
+        text = "%s %s -> %s" % (entry.fields.get("key"), entry.fields.get("old"), entry.fields.get("new"))
+        if changes and epoch - changes[-1][0] <= SAME_CHANGE:
+            changes[-1] = (changes[-1][0], changes[-1][1] + ", " + text)
+        else:
+            changes.append((epoch, text))
+    return changes
+
+
 def configuration_and_topics(config_file: str, overrides: Optional[Mapping[str, Any]] = None) -> Tuple[Any, Any]:
     """(configuration, topics of its platform: part key -> action namespace or topic) of a
     configuration file with `overrides` of its keys; ValueError with one line when either is invalid."""
