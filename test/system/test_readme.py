@@ -16,6 +16,9 @@ PACKAGE_DIR = package_dir()
 README = open(os.path.join(PACKAGE_DIR, "README.md"), encoding="utf-8").read()
 MAKEFILE = open(os.path.join(PACKAGE_DIR, "Makefile"), encoding="utf-8").read()
 PERFORMANCE = os.path.join(PACKAGE_DIR, "doc", "performance.md")
+DOC_PAGES = ("doc/performance.md", "doc/demo.md", "doc/simulated-pepper.md")
+# The README and the pages it links: the demo's and the simulated Pepper's details live there.
+DOCUMENTATION = README + "".join(open(os.path.join(PACKAGE_DIR, page), encoding="utf-8").read() for page in DOC_PAGES)
 MAX_README_LINES = 460
 
 
@@ -64,7 +67,7 @@ def test_every_log_event_is_documented(event):
 @pytest.mark.parametrize("folder", ["launch", "scripts"])
 def test_every_launch_file_and_script_is_documented(folder):
     for name in sorted(os.listdir(os.path.join(PACKAGE_DIR, folder))):
-        assert name in README, "{}/{} is not in the README".format(folder, name)
+        assert name in DOCUMENTATION, "{}/{} is not in the README or its pages".format(folder, name)
 
 
 def launch_args():
@@ -75,7 +78,7 @@ def launch_args():
 
 @pytest.mark.parametrize("launch_file,arg", launch_args())
 def test_every_launch_arg_is_documented(launch_file, arg):
-    assert re.search(r"`{}(`|:=)".format(arg), README), "{} of {} is not in the README".format(arg, launch_file)
+    assert re.search(r"`{}(`|:=)".format(arg), DOCUMENTATION), "{} of {} is not documented".format(arg, launch_file)
 
 
 def make_targets():
@@ -97,7 +100,7 @@ def test_every_make_target_is_documented(target):
 
 @pytest.mark.parametrize("option", make_options())
 def test_every_make_option_is_documented(option):
-    assert re.search(r"`{}\b".format(option), README), option
+    assert re.search(r"`{}\b".format(option), DOCUMENTATION), option
 
 
 @pytest.mark.parametrize("topic_file", ["pepperTopics.dat", "simulatorTopics.dat"])
@@ -106,7 +109,7 @@ def test_every_topic_is_documented(topic_file):
         assert "`{}`".format(topic) in README
 
 
-@pytest.mark.parametrize("document", ["README.md", "doc/performance.md"])
+@pytest.mark.parametrize("document", ("README.md",) + DOC_PAGES)
 def test_every_path_a_document_names_exists(document):
     text = open(os.path.join(PACKAGE_DIR, document), encoding="utf-8").read()
     paths = set(re.findall(r"`((?:src|scripts|config|data|launch|test|tools|doc)/[\w./-]+)`", text))
