@@ -364,3 +364,24 @@ def test_changes_of_live_settings_become_one_mark_each(tmp_path):
     log.close()
     changes = setting_changes_from_log(read_log(path))
     assert [text for _, text in changes] == ["intensity 1.0 -> 0.5, turnBase true -> false"]
+
+
+def test_a_change_of_bands_is_recorded_plotted_and_read_back(tmp_path):
+    from cssr_system.animate_behaviour import contract
+    from cssr_system.animate_behaviour.event_log import EventLog, read_log
+    from cssr_system.animate_behaviour.recording.plot import changing_bands
+    from cssr_system.animate_behaviour.recording.recording import (BandChange, band_changes_from_log, read_recording,
+                                                                   write_recording)
+    path = str(tmp_path / "node.log")
+    log = EventLog(path)
+    for upper in (1.7, 1.7, 1.6):  # the same band twice, then a narrower one
+        log.write(contract.GOAL_SENT, part="RArm", purpose=contract.PURPOSE_ANIMATE, joints=["RShoulderPitch"],
+                  lower=[1.4], upper=[upper], centre=[1.54], moving=[True])
+    log.close()
+    changes = band_changes_from_log(read_log(path))
+    assert [(name, band.upper) for _, name, band in changes] == [("RShoulderPitch", 1.7), ("RShoulderPitch", 1.6)]
+    bands = (BandChange(0.5, "RShoulderPitch", 1.4, 1.7), BandChange(2.0, "RShoulderPitch", 1.45, 1.6))
+    recording = synthetic_run()._replace(band_changes=bands)
+    assert list(changing_bands(recording)) == ["RShoulderPitch"]
+    saved = write_recording(str(tmp_path / "run.json"), recording)
+    assert read_recording(saved).band_changes == recording.band_changes

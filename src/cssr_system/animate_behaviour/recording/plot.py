@@ -14,7 +14,7 @@ import datetime
 import math
 import os
 import sys
-from typing import Any, Optional, Sequence, Tuple
+from typing import Any, Dict, Optional, Sequence, Tuple
 
 from cssr_system.animate_behaviour.contract import ENABLED
 from cssr_system.animate_behaviour.recording.recording import (BAND_TOLERANCE, Recording, heading_at_time,
@@ -86,7 +86,9 @@ def plot_recording(recording: Recording, output_path: str, title: Optional[str] 
                                  commanded=None if commanded is None else commanded._replace(
                                      times=commanded.times - origin),
                                  marks=tuple(mark._replace(start=mark.start - origin, end=mark.end - origin)
-                                             for mark in recording.marks))
+                                             for mark in recording.marks),
+                                 band_changes=tuple(change._replace(time=change.time - origin)
+                                                    for change in recording.band_changes))
     parts = plotted_parts(shifted)
     panels = len(parts) + 1  # the base heading last
     columns = 2 if panels > 3 else 1
@@ -119,6 +121,9 @@ def plot_recording(recording: Recording, output_path: str, title: Optional[str] 
         source = recording.commanded.source or "the node"
         key.append(Line2D([], [], color="grey", linewidth=1.1, linestyle="--",
                           label="commanded by %s (dashed, darker shade of the joint's colour)" % source))
+    if changing_bands(recording):
+        key.append(Line2D([], [], color="grey", linewidth=1.0, linestyle="-.",
+                          label="band edges as the settings change"))
     if recording.marks:
         key.append(Patch(facecolor=MARK_COLOUR, alpha=MARK_ALPHA,
                          label="another node's goal (label: sender, result), or a change of settings"))
@@ -133,6 +138,27 @@ def plot_recording(recording: Recording, output_path: str, title: Optional[str] 
     return output_path
 
 
+def changing_bands(recording: Recording) -> Dict[str, list]:
+    """The band changes of each joint whose band changed during the run (a change of live settings)."""
+    by_joint: Dict[str, list] = {}
+    for change in recording.band_changes:
+        by_joint.setdefault(change.joint, []).append(change)
+    return {name: changes for name, changes in by_joint.items() if len(changes) > 1}
+
+
+def _draw_band_changes(axis: Any, recording: Recording, name: str, colour: str) -> None:
+    """A joint's band edges over time, as steps, where its band changed during the run."""
+    changes = changing_bands(recording).get(name)
+    if not changes:
+        return
+    end = float(recording.times[-1]) if len(recording.times) else changes[-1].time
+    times = [change.time for change in changes] + [max(end, changes[-1].time)]
+    for edge in ("lower", "upper"):
+        values = [getattr(change, edge) for change in changes]
+        axis.step(times, values + values[-1:], where="post", color=colour, linewidth=1.0, alpha=0.9,
+                  linestyle="-.")
+
+
 def _plot_part(axis: Any, recording: Recording, label: str, joints: Sequence[str],
                colours: Sequence[str], part_keys: Sequence[str]) -> None:
     worst_joint, worst = "", 0.0
@@ -145,6 +171,7 @@ def _plot_part(axis: Any, recording: Recording, label: str, joints: Sequence[str
             axis.axhline(band.upper, color=colour, alpha=0.6, linewidth=0.8, linestyle=":")
         elif band is not None:
             axis.axhline(band.centre, color=colour, alpha=0.6, linewidth=0.8, linestyle=":")
+        _draw_band_changes(axis, recording, name, colour)
         if name in recording.joint_names:
             values = recording.positions[:, recording.joint_names.index(name)]
             shown = name + ("" if band is None or band.moving else " (held)")

@@ -41,8 +41,9 @@ from cssr_system.animate_behaviour.recording.commanded import (CancelRequest, Go
                                                                controller_pieces, goal_marks)
 from cssr_system.animate_behaviour.recording.plot import plot_recording
 from cssr_system.animate_behaviour.recording.recording import (PLOT_FILE_NAME, RECORDING_FILE_NAME,
-                                                               SETTING_MARK_WIDTH, Mark, Recording, RunSetting,
-                                                               activations_from_log, bands_from_configuration_file,
+                                                               SETTING_MARK_WIDTH, BandChange, Mark, Recording,
+                                                               RunSetting, activations_from_log, band_changes_from_log,
+                                                               bands_from_configuration_file,
                                                                bands_from_log, run_setting, setting_changes_from_log,
                                                                unwrap_heading, write_recording, yaw_from_quaternion)
 from cssr_system.animate_behaviour.node.goals import goal_state_name
@@ -170,6 +171,8 @@ class RunRecorder:
         origin = self.start_epoch + first
         marks += tuple(Mark(epoch - origin, epoch - origin + SETTING_MARK_WIDTH, text)
                        for epoch, text in setting_changes_from_log(log_entries, since))
+        band_changes = tuple(BandChange(epoch - origin, name, band.lower, band.upper)
+                             for epoch, name, band in band_changes_from_log(log_entries, since))
         info = {}  # type: Dict[str, str]
         if self.setting is not None:
             info = {"platform": self.setting.platform, "behaviour": self.setting.behaviour,
@@ -177,7 +180,8 @@ class RunRecorder:
         return Recording(start_epoch=self.start_epoch + first, joint_names=self.joint_names, times=times - first,
                          positions=positions, heading_times=heading_times - first, headings=headings,
                          activations=activations, bands=bands, heading_bound=heading_bound, info=info,
-                         heading_topic=self.heading_topic, commanded=commanded, marks=marks)
+                         heading_topic=self.heading_topic, commanded=commanded, marks=marks,
+                         band_changes=band_changes)
 
     def save(self, output_dir: str) -> int:
         """Write the recording and its plot into `output_dir`; 0 when written, 1 when not."""

@@ -30,6 +30,9 @@ Recording file format: one UTF-8 JSON object (extension ``.json``)::
       },
       "marks": [                               # optional: labelled intervals, e.g. another node's goal
         {"start": 5.1, "end": 9.1, "part": "RArm", "label": "/someNode goal: SUCCEEDED"}
+      ],
+      "band_changes": [                        # optional: a joint's band from a time on (a change of settings)
+        {"time": 10.2, "joint": "RShoulderPitch", "lower": 1.44, "upper": 1.65}
       ]
     }
 
@@ -110,6 +113,16 @@ class Recording(NamedTuple):
     heading_topic: str = ""
     commanded: Optional["Commanded"] = None
     marks: Tuple["Mark", ...] = ()
+    band_changes: Tuple["BandChange", ...] = ()
+
+
+class BandChange(NamedTuple):
+    """A joint's band from `time` on (optional field ``band_changes``): the live settings change bands during a run."""
+
+    time: float  # s since start_epoch
+    joint: str
+    lower: float
+    upper: float
 
 
 class Commanded(NamedTuple):
@@ -169,6 +182,8 @@ def recording_to_json(recording: Recording) -> Dict[str, Any]:
     if recording.marks:
         data["marks"] = [OrderedDict([("start", float(mark.start)), ("end", float(mark.end)), ("part", mark.part),
                                       ("label", mark.label)]) for mark in recording.marks]
+    if recording.band_changes:
+        data["band_changes"] = [OrderedDict(change._asdict()) for change in recording.band_changes]
     return data
 
 
@@ -257,6 +272,8 @@ def recording_from_json(data: Any, source: str = "recording") -> Recording:
             commanded=_commanded_from_json(data.get("commanded"), source),
             marks=tuple(sorted(Mark(float(mark["start"]), float(mark["end"]), str(mark["label"]),
                                     str(mark.get("part") or "")) for mark in data.get("marks") or [])),
+            band_changes=tuple(BandChange(float(change["time"]), str(change["joint"]), float(change["lower"]),
+                                          float(change["upper"])) for change in data.get("band_changes") or []),
         )
     except KeyError as error:
         raise ValueError("%s: missing field %s" % (source, error)) from None
@@ -360,6 +377,21 @@ def activations_from_log(entries: Iterable[Any], since: Optional[float] = None,
         if state is not None:
             found.append((entry.timestamp.timestamp(), state))
     return found
+
+
+def band_changes_from_log(entries: Iterable[Any], since: Optional[float] = None) -> List[Tuple[float, str, JointBand]]:
+    """(epoch, joint, band) wherever a moving joint's band differs from the one before, from the node's animating
+    ``goal_sent`` lines (the first band of each joint included)."""
+    changes: List[Tuple[float, str, JointBand]] = []
+    latest: Dict[str, JointBand] = {}
+    for entry in entries:
+        if not _in_window(entry.timestamp, since, None):
+            continue
+        for name, band in _animation_goal_bands(entry):
+            if band.moving and latest.get(name) != band:
+                latest[name] = band
+                changes.append((entry.timestamp.timestamp(), name, band))
+    return changes
 
 
 SETTING_MARK_WIDTH = 0.3  # s: a change of live settings is an instant; its mark is drawn this wide
