@@ -3,7 +3,8 @@
 interface of the simulated Pepper, breathing style: dynamic_reconfigure sets each setting and refuses an invalid one;
 an intensity change mid-run brings every part into its new bands without a stop or a velocity jump; the base
 switched off sends no Twist afterwards; an action goal with a duration ends SUCCEEDED on time with every part at its
-centre; a second goal preempts the first without stopping the robot; cancelling stops the motion."""
+centre; a second goal preempts the first without stopping the robot, with feedback once a second; cancelling stops
+the motion."""
 import datetime
 import os
 import sys
@@ -166,7 +167,9 @@ class InteractionTest(unittest.TestCase):
         first.send_goal(AnimateGoal(intensity=1.0, base_rotation=True))
         time.sleep(SETTLE)
         switched = time.monotonic()
-        self.action.send_goal(AnimateGoal(intensity=0.5, base_rotation=False, style="random"))
+        feedback = []
+        self.action.send_goal(AnimateGoal(intensity=0.5, base_rotation=False, style="random"),
+                              feedback_cb=feedback.append)
         self.assertTrue(first.wait_for_result(rospy.Duration(5)))
         self.assertEqual(first.get_state(), GoalStatus.PREEMPTED)
         self.assertEqual(first.get_result().reason, "replaced")
@@ -177,6 +180,9 @@ class InteractionTest(unittest.TestCase):
         self.assertEqual(states, {"animating"}, "the motion goes on")
         self.assert_smooth(self.window(switched - 1.0, time.monotonic()), "no velocity jump at the switch: ")
         self.assertEqual(self.action.get_state(), GoalStatus.ACTIVE)
+        self.assertGreaterEqual(len(feedback), 2, "feedback about once a second")
+        self.assertEqual({part.part for part in feedback[-1].parts}, set(PARTS_HERE) | {"Wheels"})
+        self.assertGreater(feedback[-1].elapsed, 1.0)
 
     def test_cancelling_stops_the_motion(self):
         self.action.send_goal(AnimateGoal(intensity=1.0, base_rotation=True))
