@@ -1,0 +1,237 @@
+"""Unit tests of the supervisor (node/supervisor.py) with real part streams over fake action clients, a fake clock,
+a fake log and a fake animate action server: the live settings and the animate action's goals. No ROS master."""
+import threading
+
+import pytest
+from actionlib.action_client import CommState
+from actionlib_msgs.msg import GoalStatus
+from conftest import default_configuration
+
+from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.node.animate_action import (CANCELLED, DISABLED, DURATION_ELAPSED, HOME_LEAD,
+                                                               REPLACED)
+from cssr_system.animate_behaviour.node.events import (AnimateCancel, AnimateGoal, ControllerConnected, Disable,
+                                                       Enable, GoalDone, Reconfigure)
+from cssr_system.animate_behaviour.node.joint_states import FeedState
+from cssr_system.animate_behaviour.node.part_stream import PartStream
+from cssr_system.animate_behaviour.node.supervisor import Supervisor
+
+TOPICS = {"RArm": "/pepper_dcm/RightArm_controller/follow_joint_trajectory",
+          "Leg": "/pepper_dcm/Pelvis_controller/follow_joint_trajectory"}
+CONFIG = default_configuration(random_seed=3, behaviour=frozenset({"body"}))
+
+
+class FakeHandle:
+    def __init__(self, goal, callback):
+        self.goal, self.callback, self.status, self.cancelled = goal, callback, GoalStatus.ACTIVE, False
+
+    def cancel(self):
+        self.cancelled = True
+
+    def get_comm_state(self):
+        return CommState.DONE
+
+    def get_goal_status(self):
+        return self.status
+
+    def get_result(self):
+        return None
+
+
+class FakeClient:
+    def __init__(self):
+        self.handles = []
+
+    def send_goal(self, goal, callback):
+        self.handles.append(FakeHandle(goal, callback))
+        return self.handles[-1]
+
+
+class FakeLog:
+    def __init__(self):
+        self.entries = []
+
+    def write(self, event, **fields):
+        self.entries.append((event, fields))
+
+    def events(self, name):
+        return [fields for event, fields in self.entries if event == name]
+
+
+class FakeActionServer:
+    """What the supervisor tells the animate action's goals, in order."""
+
+    def __init__(self):
+        self.calls = []
+
+    def accept(self, handle):
+        self.calls.append(("accept", handle))
+
+    def succeed(self, handle, animated, reason):
+        self.calls.append(("succeed", handle, reason))
+
+    def stop(self, handle, animated, reason):
+        self.calls.append(("stop", handle, reason))
+
+    def feedback(self, handle, elapsed, parts):
+        self.calls.append(("feedback", handle, len(parts)))
+
+
+class FakeFeed:
+    state = FeedState.LISTENING
+
+    def update(self, busy, measured, now):
+        pass
+
+    def listen(self, why):
+        pass
+
+
+class FakeJointStates:
+    @staticmethod
+    def complete(joints):
+        return True
+
+
+class Rig:
+    def __init__(self):
+        self.now = 50.0
+        self.log = FakeLog()
+        self.clients = {}
+        self.action = FakeActionServer()
+        self.statuses = []
+        self.shown = []
+        self.supervisor = Supervisor(lambda: self.now, self.log, self.make_part, self.make_base,
+                                     lambda *status: self.statuses.append(status), FakeJointStates(), FakeFeed(),
+                                     self.report_error, self.action, self.shown.append)
+        self.supervisor.config = CONFIG
+        for key, action in TOPICS.items():
+            self.supervisor.stream_for(key, action)
+            self.post(ControllerConnected(key, action))
+
+    def make_part(self, part, action):
+        self.clients[part] = FakeClient()
+        return PartStream(part, action, self.clients[part], lambda: self.now, lambda joints: None,
+                          self.supervisor.events.put, self.log, debug=lambda *args: None, warn=lambda *args: None)
+
+    @staticmethod
+    def make_base(topic):
+        raise AssertionError("no base in these tests")
+
+    @staticmethod
+    def report_error(where, error):
+        raise error
+
+    def post(self, event):
+        """The event, then what it makes happen (goal results the fake clients report), as the thread would."""
+        self.supervisor.events.put(event)
+        while not self.supervisor.events.empty():
+            self.supervisor.step(0.0)
+
+    def finish_running_goals(self):
+        for client in self.clients.values():
+            handle = client.handles[-1]
+            handle.status = GoalStatus.SUCCEEDED
+            handle.callback(handle)
+        while not self.supervisor.events.empty():
+            self.supervisor.step(0.0)
+
+    def goals(self, part):
+        return len(self.clients[part].handles)
+
+
+def enable(rig, config=CONFIG):
+    rig.post(Enable("config.ini", config, TOPICS, threading.Event()))
+
+
+def test_a_live_change_while_enabled_splices_new_goals_and_is_logged_with_who_asked():
+    rig = Rig()
+    enable(rig)
+    before = {part: rig.goals(part) for part in TOPICS}
+    rig.post(Reconfigure("config.ini", CONFIG._replace(intensity=0.5), TOPICS, "dynamic_reconfigure"))
+    assert all(rig.goals(part) == before[part] + 1 for part in TOPICS), "each part's next goal leaves at once"
+    assert not any(handle.cancelled for client in rig.clients.values() for handle in client.handles), "no stop"
+    assert rig.log.events(contract.SETTING_CHANGED) == [
+        {"key": "intensity", "old": "1.0", "new": "0.5", "by": "dynamic_reconfigure"}]
+    assert rig.statuses[-1][3].intensity == 0.5 and rig.statuses[-1][4] == "dynamic_reconfigure"
+    assert rig.shown == [CONFIG], "only what a service brought is shown back to dynamic_reconfigure"
+
+
+def test_a_part_switched_off_goes_home_and_the_others_go_on():
+    rig = Rig()
+    enable(rig)
+    rig.post(Reconfigure("config.ini", CONFIG._replace(move_leg=False), TOPICS, "dynamic_reconfigure"))
+    streams = {stream.part: stream for stream in rig.supervisor.part_streams()}
+    assert streams["Leg"].state.value == "homing" and streams["RArm"].state.value == "animating"
+
+
+def test_a_change_while_disabled_is_kept_and_moves_nothing():
+    rig = Rig()
+    rig.post(Reconfigure("config.ini", CONFIG._replace(intensity=0.2), TOPICS, "dynamic_reconfigure"))
+    assert rig.supervisor.config.intensity == 0.2 and all(rig.goals(part) == 0 for part in TOPICS)
+
+
+def animate(rig, handle, duration=0.0, config=CONFIG, by="/tree"):
+    rig.post(AnimateGoal(handle, "config.ini", config, TOPICS, duration, by))
+
+
+def test_a_goal_with_a_duration_sends_the_parts_home_then_succeeds():
+    rig = Rig()
+    animate(rig, "first", duration=5.0)
+    assert rig.action.calls == [("accept", "first")] and rig.supervisor.enabled
+    assert rig.shown == [CONFIG]
+    rig.now += 5.0 - HOME_LEAD - 0.01
+    rig.supervisor.step(0.0)  # nothing is due yet
+    assert rig.supervisor.enabled
+    rig.now += 0.02
+    rig.supervisor.step(0.0)
+    assert not rig.supervisor.enabled, "the parts start home before the duration ends"
+    assert ("succeed", "first", DURATION_ELAPSED) not in rig.action.calls, "not before they are home"
+    rig.finish_running_goals()
+    assert rig.action.calls[-1] == ("succeed", "first", DURATION_ELAPSED)
+    assert [fields["outcome"] for fields in rig.log.events(contract.ANIMATE_GOAL)] == ["accepted", "succeeded"]
+
+
+@pytest.mark.parametrize("ending, reason", [("second goal", REPLACED), ("cancel", CANCELLED),
+                                            ("disable", DISABLED), ("enable", REPLACED)])
+def test_a_goal_ends_preempted_with_its_reason(ending, reason):
+    rig = Rig()
+    animate(rig, "first")
+    if ending == "second goal":
+        animate(rig, "second", config=CONFIG._replace(intensity=0.5))
+    elif ending == "cancel":
+        rig.post(AnimateCancel("first"))
+    elif ending == "disable":
+        rig.post(Disable("disabled", threading.Event()))
+    else:
+        enable(rig)
+    assert ("stop", "first", reason) in rig.action.calls
+    assert rig.supervisor.enabled == (ending in ("second goal", "enable")), "a new goal or enable goes on"
+    if ending == "second goal":
+        assert rig.supervisor.settings_by == "/tree" and rig.supervisor.session.handle == "second"
+
+
+def test_feedback_about_once_a_second():
+    rig = Rig()
+    animate(rig, "first")
+    for _ in range(25):
+        rig.now += 0.1
+        rig.supervisor.step(0.0)
+    assert [call[0] for call in rig.action.calls].count("feedback") == 2
+
+
+def test_a_cancel_for_a_goal_already_replaced_changes_nothing():
+    rig = Rig()
+    animate(rig, "first")
+    animate(rig, "second")
+    calls = list(rig.action.calls)
+    rig.post(AnimateCancel("first"))
+    assert rig.action.calls == calls and rig.supervisor.enabled
+
+
+def test_goal_results_reach_the_streams():
+    rig = Rig()
+    enable(rig)
+    before = rig.goals("RArm")
+    rig.post(GoalDone("RArm", TOPICS["RArm"], before, GoalStatus.SUCCEEDED, 0, ""))
+    assert rig.goals("RArm") == before + 1
