@@ -37,9 +37,12 @@ python3 -m pytest test/system -q -p no:cacheprovider --junitxml="$RESULTS_DIR/sy
 expected=(checksums.xml unit.xml unit-python38.xml system.xml check-python38.xml check-catkin-lint.xml check-flake8.xml
           check-complexity.xml)
 rostests=(test/*.test)
+# The longest first (about two minutes each; most of a rostest's time is waiting), so the rest fill in beside them.
+longest=(test/animate_behaviour_robot.test test/controller_verdicts_12hz.test test/controller_verdicts_50hz.test)
 if [ -e "${rostests[0]}" ]; then
-  log_step "integration tests (rostest, two at a time)"
-  printf '%s\n' "${rostests[@]}" | xargs -P 2 -I{} sh -c \
+  log_step "integration tests (rostest, three at a time: each has its own master, port and ROS_HOME files)"
+  { printf '%s\n' "${longest[@]}"; printf '%s\n' "${rostests[@]}" | grep -vxF -f <(printf '%s\n' "${longest[@]}"); } |
+    xargs -P 3 -I{} sh -c \
     'out="$1/rostest/$(basename "$2" .test).out"
      rostest --results-base-dir "$1/rostest" cssr_system "$(basename "$2")" > "$out" 2>&1 \
        && echo "  $2: ok" || { echo "  $2: FAILED (output: $out)"; tail -n 30 "$out"; }' \
