@@ -3,9 +3,10 @@
 
 # make demo DURATION=10 PLATFORM=simulator BEHAVIOUR=hands OUTPUT_DIR=/tmp/demo GESTURE=1
 #           STYLE=breathing DRIVER=naoqi_dcm NODE_ARGS="_gestureDuration:=1.5" SIM_ARGS="..." INTERACTION=1
+#           ACTUATION=joint_angles
 # or DEMO_DURATION, DEMO_PLATFORM, ... in the environment (the short names only from the command line:
 # environments often hold an unrelated PLATFORM).
-DEMO_OPTIONS := DURATION PLATFORM BEHAVIOUR OUTPUT_DIR GESTURE STYLE DRIVER NODE_ARGS SIM_ARGS INTERACTION
+DEMO_OPTIONS := DURATION PLATFORM BEHAVIOUR OUTPUT_DIR GESTURE STYLE DRIVER NODE_ARGS SIM_ARGS INTERACTION ACTUATION
 demo:
 	$(foreach option,$(DEMO_OPTIONS),$(if $(filter command line,$(origin $(option))),DEMO_$(option)='$(subst ','\'',$($(option)))')) \
 	bash tools/demo.sh
@@ -20,7 +21,7 @@ benchmark:
 	$(foreach option,$(BENCHMARK_OPTIONS),$(if $(filter command line,$(origin $(option))),BENCHMARK_$(option)='$(subst ','\'',$($(option)))')) \
 	bash tools/benchmark.sh
 
-# What a person sees of each motion style, on the ideal controller and on the robot's driver (README: "Motion styles").
+# What a person sees of each motion style: ideal, through pepper_dcm, through joint_angles (README: "Motion styles").
 motion-report:
 	bash tools/motion_report.sh
 

@@ -11,6 +11,7 @@ from control_msgs.msg import FollowJointTrajectoryActionGoal, FollowJointTraject
 from geometry_msgs.msg import Twist
 
 from cssr_system.animate_behaviour.topics import WHEELS_KEY
+from cssr_system.pepper.joint_table import PARTS
 
 
 class WireRecorder:
@@ -23,6 +24,8 @@ class WireRecorder:
         self._subscribers = []
         self._names = dict(topics)
         for key, name in topics.items():
+            if key not in PARTS and key != WHEELS_KEY:  # JointAngles: no goals there
+                continue
             if key == WHEELS_KEY:
                 subscriber = rospy.Subscriber(name, Twist, self._record, (self.twists, key))
                 self._needed.append(subscriber)

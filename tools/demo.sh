@@ -9,10 +9,11 @@
 #   make demo NODE_ARGS="_gestureDuration:=1.5" SIM_ARGS="_feedback_rate:=20"
 #   make demo STYLE=breathing DRIVER=naoqi_dcm   (the breathing style, executed as the robot's driver would)
 #   make demo INTERACTION=1           half-way, the engaged preset (intensity 0.5, base still)
+#   make demo STYLE=breathing ACTUATION=joint_angles   (streamed to the simulated Pepper run as naoqi_driver)
 # Environment (what the make variables set): DEMO_DURATION (s, default 30), DEMO_PLATFORM (robot or
 # simulator, default robot), DEMO_BEHAVIOUR (default all), DEMO_OUTPUT_DIR (default: the workspace's demo
 # folder), DEMO_GESTURE (1: a gesture on the right arm half-way), DEMO_INTERACTION (1: the engaged preset
-# half-way), DEMO_NODE_ARGS and DEMO_SIM_ARGS
+# half-way), DEMO_ACTUATION (trajectory or joint_angles), DEMO_NODE_ARGS and DEMO_SIM_ARGS
 # (private parameters of the node and of the simulated Pepper, `_name:=value` words; the leading `_` may
 # be left out), DEMO_MASTER_URI (default: a master of its own on a free port, so a master you run is
 # never touched).
@@ -60,6 +61,14 @@ switch() {
   esac
 }
 gesture=$(switch GESTURE "${DEMO_GESTURE:-0}")
+# ACTUATION=joint_angles: the launch file starts the node with it and the simulated Pepper as naoqi_driver, the
+# only driver model that executes /joint_angles.
+case ${DEMO_ACTUATION:-}/${DEMO_DRIVER:-naoqi_driver} in
+  /*|trajectory/*|joint_angles/naoqi_driver) ;;
+  joint_angles/*) echo "demo: error: ACTUATION=joint_angles runs the simulated Pepper as naoqi_driver, not" \
+                    "DRIVER=${DEMO_DRIVER}" >&2; exit 1 ;;
+  *) echo "demo: error: ACTUATION=${DEMO_ACTUATION} (expected trajectory or joint_angles)" >&2; exit 1 ;;
+esac
 interaction=$(switch INTERACTION "${DEMO_INTERACTION:-0}")
 output_dir=$(mkdir -p "${DEMO_OUTPUT_DIR:-$WORKSPACE_DIR/demo}" && cd "${DEMO_OUTPUT_DIR:-$WORKSPACE_DIR/demo}" && pwd)
 launch_log="$output_dir/roslaunch.log"
@@ -73,7 +82,7 @@ trap '' INT TERM
 : >"$launch_log"  # exists, empty, before the display tails it: the launch appends from its own process
 setsid roslaunch cssr_system animateBehaviourDemo.launch \
   duration:="${DEMO_DURATION:-30}" platform:="${DEMO_PLATFORM:-robot}" behaviour:="${DEMO_BEHAVIOUR:-all}" \
-  gesture:="$gesture" interaction:="$interaction" output_dir:="$output_dir" \
+  gesture:="$gesture" interaction:="$interaction" actuation:="${DEMO_ACTUATION:-}" output_dir:="$output_dir" \
   log_file:="$output_dir/animateBehaviourLogFile.log" outcome_file:="$outcome_file" \
   </dev/null >>"$launch_log" 2>&1 &
 launch_pid=$!

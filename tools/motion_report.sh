@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# `make motion-report`: figures of each motion style, on the ideal controller and on the model of the robot's driver,
-# from a computed 60 s run at the shipped configuration (behaviour body, robot). Options: MOTION_REPORT_ARGS, e.g.
-# "--seconds 120 --seed 3 --config my.ini". See src/cssr_system/animate_behaviour/motion/report.py.
+# `make motion-report`: figures of each motion style, on the ideal controller, on the model of the robot's driver
+# and on naoqi_driver fed by the joint_angles actuation, from a computed 60 s run at the shipped configuration
+# (behaviour body, robot). Options: MOTION_REPORT_ARGS, e.g. "--seconds 120 --seed 3 --config my.ini".
+# See src/cssr_system/animate_behaviour/motion/report.py.
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 cd "$REPO_DIR"

@@ -174,3 +174,22 @@ def test_ctrl_c_disables_the_node_first_stops_everything_and_still_plots(tmp_pat
     assert events[disabled][1] == {"state": "disabled", "reply": "1"}
     assert disabled < names.index("node_stopped"), "the node was stopped before it was disabled"
     assert [fields["reason"] for event, fields in events if event == "behaviour_ended"] == ["disabled"]
+
+
+def test_demo_with_the_joint_angles_actuation_streams_and_returns_every_joint_to_its_centre(tmp_path):
+    status, output, _ = run_demo(tmp_path, DURATION=DEMO_DURATION, STYLE="breathing", BEHAVIOUR="body",
+                                 ACTUATION="joint_angles")
+    assert status == 0, output
+    recording = check_plot_and_recording(output, tmp_path)
+    enabled_at, disabled_at = [moment for moment, _ in recording.activations]
+    commanded = recording.commanded  # the node's /joint_angles calls, as naoqi_driver runs them
+    assert commanded is not None and commanded.source == "/animateBehaviour" and recording.marks == ()
+    streamed = (commanded.times > enabled_at + 0.5) & (commanded.times < disabled_at)
+    assert numpy.all(numpy.isfinite(commanded.positions[streamed]))
+    from cssr_system.pepper.joint_table import PARTS  # after the skip: needs the workspace
+    last = dict(zip(recording.joint_names, recording.positions[-1]))
+    for part in PARTS.values():
+        for name, centre in zip(part.joints, part.centre):
+            assert abs(last[name] - centre) < 0.01, name
+    assert "ACTUATION=joint_angles runs the simulated Pepper as naoqi_driver" in run_demo(
+        tmp_path, ACTUATION="joint_angles", DRIVER="naoqi_dcm")[1]

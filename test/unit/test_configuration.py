@@ -111,7 +111,8 @@ def test_configuration_items_are_written_as_in_the_file():
     items = configuration_items(SHIPPED_DEFAULTS)
     expected = OrderedDict(SHIPPED_VALUES)
     expected.update(randomSeed="none", homeOnDisable="true", headingBound="0.3", yieldQuietTime="1.0",
-                    motionStyle="random", breathsPerMinute="12.0", breathingAmplitude="0.6", intensity="1.0",
+                    motionStyle="random", breathsPerMinute="12.0", breathingAmplitude="0.6", actuation="trajectory",
+                    intensity="1.0",
                     moveArms="true", moveHands="true", moveLeg="true", turnBase="true")
     assert items == expected and list(items) == list(expected)
     items = configuration_items(SHIPPED_DEFAULTS._replace(behaviour=frozenset({"rotation", "body"}), random_seed=7))
@@ -159,7 +160,8 @@ def configurations(draw):
         yield_quiet_time=draw(st.floats(min_value=0.0, max_value=10.0)),
         motion_style=draw(st.sampled_from(["random", "breathing"])),
         breaths_per_minute=draw(st.floats(min_value=5.0, max_value=20.0)),
-        breathing_amplitude=draw(st.floats(min_value=0.0, max_value=1.0)))
+        breathing_amplitude=draw(st.floats(min_value=0.0, max_value=1.0)),
+        actuation=draw(st.sampled_from(["trajectory", "joint_angles"])))
 
 
 @pytest.fixture(scope="module")
@@ -307,7 +309,7 @@ def test_range_expectations_are_stated():
     ("randomSeed 4294967296", "4294967295"), ("randomSeed 1.5", "none or an integer"),
     ("homeOnDisable yes", "true or false"), ("yieldQuietTime -1", "[0, 10]"), ("yieldQuietTime 11", "[0, 10]"),
     ("motionStyle calm", "random or breathing"), ("breathsPerMinute 30", "[5, 20]"), ("breathsPerMinute 4", "[5, 20]"),
-    ("breathingAmplitude 1.5", "[0, 1]")])
+    ("breathingAmplitude 1.5", "[0, 1]"), ("actuation setAngles", "trajectory or joint_angles")])
 def test_optional_keys_are_checked(line, expected):
     problem = only_problem(config_text(extra=line + "\n"))
     key, value = line.split(" ")
@@ -422,6 +424,7 @@ def test_every_problem_is_reported_in_one_error():
     ("headingBound", 0.1, "heading_bound", 0.1),
     ("yieldQuietTime", 0, "yield_quiet_time", 0.0),
     ("motionStyle", "Breathing", "motion_style", "breathing"),
+    ("actuation", "Joint_Angles", "actuation", "joint_angles"),
     ("breathsPerMinute", 6, "breaths_per_minute", 6.0),
     ("robotTopics", os.path.join(DATA_DIR, "pepperTopics.dat"), "robot_topics",
      os.path.join(DATA_DIR, "pepperTopics.dat"))])

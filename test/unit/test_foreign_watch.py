@@ -1,10 +1,14 @@
 """Unit tests of how the node tells other nodes' goals and Twists from its own (node/foreign_watch.py), no master."""
+import numpy
+import pytest
 from actionlib_msgs.msg import GoalID, GoalStatus, GoalStatusArray
 from geometry_msgs.msg import Twist, Vector3
+from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 
-from cssr_system.animate_behaviour.node.events import ForeignGoal, ForeignResult, ForeignTwist
+from cssr_system.animate_behaviour.node.events import ForeignGoal, ForeignJointAngles, ForeignResult, ForeignTwist
 from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch
 from cssr_system.animate_behaviour.rospy_compat import caller_of_goal
+from cssr_system.pepper.joint_table import JOINTS, centre_of
 
 ACTION = "/pepper_dcm/RightArm_controller/follow_joint_trajectory"
 
@@ -72,3 +76,31 @@ def test_every_status_message_is_told_to_the_controller_watcher_by_action():
     watch._on_status(status_array(), ACTION)
     watch._on_status(status_array(("/animateBehaviour-1-16.0", GoalStatus.ACTIVE)), ACTION)
     assert seen == [ACTION, ACTION]
+
+
+def joint_angles(caller, names, angles, speed=0.1, relative=0):
+    message = JointAnglesWithSpeed(joint_names=list(names), joint_angles=list(angles), speed=speed, relative=relative)
+    message._connection_header = {"callerid": caller}
+    return message
+
+
+def test_another_nodes_joint_angles_are_posted_with_our_joints_and_when_they_arrive():
+    watch, posted = make_watch()
+    watch._positions = lambda joints: numpy.array([1.5, 0.0][:len(joints)])
+    vmax = JOINTS["RShoulderPitch"].max_velocity
+    watch._on_joint_angles(joint_angles("/gesture", ["RShoulderPitch", "HeadYaw"], [1.0, 0.3], 0.1), "/joint_angles")
+    assert posted == [ForeignJointAngles("/joint_angles", "/gesture", ("RShoulderPitch",),
+                                         pytest.approx(100.0 + 0.5 / (0.1 * vmax)))]
+
+
+def test_our_own_and_head_only_joint_angles_are_never_foreign():
+    watch, posted = make_watch()
+    watch._on_joint_angles(joint_angles("/animateBehaviour", ["RShoulderPitch"], [1.0]), "/joint_angles")
+    watch._on_joint_angles(joint_angles("/gesture", ["HeadYaw"], [0.3]), "/joint_angles")
+    assert posted == []
+
+
+def test_unmeasured_joints_are_taken_at_their_centre():
+    watch, posted = make_watch()
+    watch._on_joint_angles(joint_angles("/gesture", ["HipPitch"], [centre_of("HipPitch")]), "/joint_angles")
+    assert posted[0].last_point_at == 100.0

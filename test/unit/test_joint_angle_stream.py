@@ -228,3 +228,16 @@ def test_the_stop_message_sends_every_joint_to_its_centre_calmly(streamed):
     arrived, velocities = driver.state(SECONDS + duration + 1e-9)  # a rounding error after the slowest arrives
     numpy.testing.assert_allclose(arrived, [centre[name] for name in motion.names], atol=0.01)
     assert not velocities.any()
+
+
+def test_how_long_another_nodes_set_angles_call_runs():
+    where = {"RShoulderPitch": 1.5, "HipPitch": 0.0}
+    vmax = maximum_velocities(("RShoulderPitch", "HipPitch"))
+    duration = stream.set_angles_duration(("RShoulderPitch", "HipPitch", "HeadYaw"), (1.0, 0.05, 0.5), 0.1, 0, where)
+    assert duration == pytest.approx(max(0.5 / (0.1 * vmax[0]), 0.05 / (0.1 * vmax[1])))
+    relative = stream.set_angles_duration(("HipPitch",), (0.05,), 0.1, 1, where)
+    assert relative == pytest.approx(0.05 / (0.1 * vmax[1]))
+    beyond = stream.set_angles_duration(("HipPitch",), (10.0,), 1.0, 0, where)  # clamped into the limits
+    assert beyond == pytest.approx(JOINTS["HipPitch"].upper / vmax[1])
+    assert stream.set_angles_duration(("HipPitch",), (0.5,), 0.0, 0, where) == 0.0  # refused by naoqi_driver
+    assert stream.set_angles_duration(("HipPitch", "RShoulderPitch"), (0.5,), 0.1, 0, where) == 0.0

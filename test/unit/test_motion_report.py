@@ -4,7 +4,8 @@ import math
 import numpy
 import pytest
 
-from cssr_system.animate_behaviour.motion.report import SAMPLE_RATE, figures
+from cssr_system.animate_behaviour.configuration import shipped_configuration_path
+from cssr_system.animate_behaviour.motion.report import SAMPLE_RATE, figures, report
 from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION
 
 TIMES = numpy.arange(0.0, 60.0, 1.0 / SAMPLE_RATE)
@@ -45,3 +46,13 @@ def test_sides_correlate_with_mirroring_where_the_limits_mirror():
                       RShoulderRoll=-0.1 - wave)
     assert rows["LShoulderPitch"].side_correlation == pytest.approx(1.0)
     assert rows["RShoulderRoll"].side_correlation == pytest.approx(1.0)
+
+
+def test_through_joint_angles_the_breathing_moves_as_planned_where_the_driver_steps():
+    tables = report(shipped_configuration_path(), 20.0, 1)
+    ideal, dcm, angles = ({row.joint: row for row in tables[("breathing", driver)]}
+                          for driver in ("ideal", "naoqi_dcm", "joint_angles"))
+    for joint in ("RShoulderPitch", "LElbowYaw", "RHand", "HipPitch"):
+        assert angles[joint].peak_to_peak == pytest.approx(ideal[joint].peak_to_peak, abs=0.005)
+        assert angles[joint].moving >= ideal[joint].moving - 0.05 and dcm[joint].moving < 0.2
+        assert angles[joint].visible

@@ -136,3 +136,20 @@ def test_joint_angles_needs_the_naoqi_driver():
     for driver in ("ideal", NAOQI_DCM):
         with pytest.raises(RuntimeError):
             SimulatedPepper("robot", driver=driver).joint_angles(["HipPitch"], [0.0], 0.1, 0, 0.0)
+
+
+def test_what_naoqi_driver_is_commanded_is_each_joints_latest_target():
+    pepper = SimulatedPepper("robot", driver=NAOQI_DRIVER)
+    index = pepper.joint_names.index("RShoulderPitch")
+    start = pepper.joint_state(0.0).positions[index]
+    assert pepper.driver_commands(0.0).positions == pepper.joint_state(0.0).positions  # no call yet: where it rests
+    pepper.joint_angles(["RShoulderPitch"], [start - 0.2], 0.1, 0, 1.0)
+    commanded = pepper.driver_commands(1.1)
+    assert commanded.positions[index] == pytest.approx(start - 0.2)
+    assert commanded.velocities[index] < 0.0 and pepper.driver_commands(9.0).velocities[index] == 0.0
+    assert commanded.names == pepper.joint_names
+
+
+def test_without_naoqi_driver_the_commands_are_the_controllers():
+    pepper = SimulatedPepper("robot", driver="naoqi_dcm")
+    assert pepper.driver_commands(0.5) == pepper.commanded_state(0.5)

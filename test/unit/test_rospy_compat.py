@@ -1,13 +1,14 @@
 """The assumptions rospy_compat makes about the installed rospy and actionlib, one test each: a new version that
 breaks one fails here (src/cssr_system/animate_behaviour/rospy_compat.py)."""
 import inspect
+from types import SimpleNamespace
 
 import actionlib
 import rospy.impl.tcpros_base
 import rospy.topics
 from actionlib_msgs.msg import GoalStatusArray
 
-from cssr_system.animate_behaviour.rospy_compat import caller_of, server_ready
+from cssr_system.animate_behaviour.rospy_compat import caller_of, has_subscriber_other_than, server_ready
 
 ACTION_CLIENT_SOURCE = inspect.getsource(actionlib.ActionClient.__init__)
 
@@ -32,6 +33,25 @@ def test_a_publisher_knows_its_subscribers_and_a_subscriber_its_publishers():
     assert "self.connections = []" in inspect.getsource(rospy.topics._TopicImpl.__init__)
     assert "self.callerid_pub" in inspect.getsource(rospy.impl.tcpros_base.TCPROSTransport.__init__)
     assert callable(rospy.topics.Subscriber.unregister)
+
+
+def test_a_publishers_connections_are_named_by_their_subscribers():
+    assert "if c.endpoint_id == endpoint_id" in inspect.getsource(rospy.topics._PublisherImpl.has_connection)
+    assert "self.endpoint_id = endpoint_id" in inspect.getsource(rospy.impl.tcpros_base.TCPROSTransport.set_socket)
+
+
+class FakeSubscriberConnection:
+    def __init__(self, caller):
+        self.endpoint_id = caller
+
+
+def test_another_subscriber_than_ourselves():
+    publisher = SimpleNamespace(impl=SimpleNamespace(connections=[]))
+    assert not has_subscriber_other_than(publisher, "/animateBehaviour")
+    publisher.impl.connections.append(FakeSubscriberConnection("/animateBehaviour"))
+    assert not has_subscriber_other_than(publisher, "/animateBehaviour")
+    publisher.impl.connections.append(FakeSubscriberConnection("/naoqi_driver"))
+    assert has_subscriber_other_than(publisher, "/animateBehaviour")
 
 
 def test_a_publisher_without_a_queue_size_writes_each_connection_itself():

@@ -5,8 +5,8 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from cssr_system.animate_behaviour.key_value_file import key_value_lines
-from cssr_system.animate_behaviour.topics import (TOPIC_KEYS, TopicFileError, TopicMap, load_topic_map,
-                                                  parse_topic_map)
+from cssr_system.animate_behaviour.topics import (TOPIC_KEYS, TopicFileError, TopicMap, joint_angles_topic,
+                                                  load_topic_map, parse_topic_map)
 from cssr_system.pepper.joint_table import CONTROLLER_NAMES, PARTS
 
 DATA_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "data")
@@ -25,9 +25,14 @@ def problems_of(text, source="topics.dat"):
     return error.problems
 
 
-def test_topic_keys_are_the_parts_then_the_wheels():
-    assert TOPIC_KEYS == ("RArm", "LArm", "RHand", "LHand", "Leg", "Wheels")
-    assert TOPIC_KEYS[:-1] == tuple(PARTS)
+def test_topic_keys_are_the_parts_then_the_wheels_then_the_joint_angles():
+    assert TOPIC_KEYS == ("RArm", "LArm", "RHand", "LHand", "Leg", "Wheels", "JointAngles")
+    assert TOPIC_KEYS[:-2] == tuple(PARTS)
+
+
+def test_the_joint_angles_topic_defaults_to_naoqi_drivers():
+    assert joint_angles_topic({"RArm": "/a"}) == "/joint_angles"
+    assert joint_angles_topic({"JointAngles": "/robot/joint_angles"}) == "/robot/joint_angles"
 
 
 def test_shipped_robot_topics():
@@ -35,6 +40,7 @@ def test_shipped_robot_topics():
     topic_map = load_topic_map(path)
     expected = {key: action_namespace("pepper_dcm", key) for key in ("RArm", "LArm", "RHand", "LHand", "Leg")}
     expected["Wheels"] = "/pepper_dcm/cmd_moveto"
+    expected["JointAngles"] = "/joint_angles"
     assert topic_map == TopicMap(path, expected)
     assert list(topic_map.topics) == list(TOPIC_KEYS)
 
@@ -44,6 +50,7 @@ def test_shipped_simulator_topics_have_no_hands():
     topic_map = load_topic_map(path)
     expected = {key: action_namespace("pepper", key) for key in ("RArm", "LArm", "Leg")}
     expected["Wheels"] = "/pepper/cmd_vel"
+    expected["JointAngles"] = "/joint_angles"
     assert dict(topic_map.topics) == expected
     assert topic_map.path == path
 
@@ -103,7 +110,8 @@ def test_a_bare_slash_is_not_a_topic():
 def test_unknown_key_suggests_the_close_one():
     (problem,) = problems_of("RArm /a\nrarm /b\n")
     assert problem.startswith("topics.dat:2: unknown key 'rarm'")
-    assert "did you mean RArm?" in problem and "expected one of: RArm, LArm, RHand, LHand, Leg, Wheels" in problem
+    assert "did you mean RArm?" in problem
+    assert "expected one of: RArm, LArm, RHand, LHand, Leg, Wheels, JointAngles" in problem
 
 
 def test_duplicated_key_names_the_first_line():

@@ -16,8 +16,8 @@ File format (``config/animateBehaviourConfiguration.ini``):
 `KEYS` is the one table of keys: file name, attribute of `Configuration`, required or default, parser
 and what is expected. The 14 keys from ``platform`` to ``legRepeatFactor`` are required; the others
 (``randomSeed``, ``homeOnDisable``, ``headingBound``, ``yieldQuietTime``, ``motionStyle``,
-``breathsPerMinute``, ``breathingAmplitude``) are optional with the defaults in `KEYS`. Any other key is
-an error.
+``breathsPerMinute``, ``breathingAmplitude``, ``actuation``, the live settings) are optional with the
+defaults in `KEYS`. Any other key is an error.
 
 Cross-key rules: ``legRepeatFactor <= numPoints``; ``numPointsLeg <= floor(numPoints /
 legRepeatFactor)`` (the leg chunk size); the topic file of the selected platform (``robotTopics`` for
@@ -61,6 +61,10 @@ BEHAVIOURS: Tuple[str, ...] = ("body", "hands", "rotation")
 PLATFORMS: Tuple[str, ...] = ("robot", "simulator")
 ALL_BEHAVIOURS = "all"
 MOTION_STYLES = ("random", "breathing")  # motion/styles.py builds the goals of each
+# How the joints are driven (README: "Actuation on the robot"): FollowJointTrajectory goals, or the same planned
+# motion streamed to naoqi_driver's JointAngles topic (node/joint_angle_stream.py). Read at start-up.
+ACTUATIONS = ("trajectory", "joint_angles")
+TRAJECTORY_ACTUATION, JOINT_ANGLES_ACTUATION = ACTUATIONS
 # The key holding the topic file of each platform.
 PLATFORM_TOPICS_KEYS: Dict[str, str] = OrderedDict((("robot", "robotTopics"), ("simulator", "simulatorTopics")))
 LARGEST_RANDOM_SEED = 2 ** 32 - 1  # numpy's seeds are 32-bit
@@ -91,6 +95,7 @@ class Configuration(NamedTuple):
     motion_style: str = "random"
     breaths_per_minute: float = 12.0
     breathing_amplitude: float = 0.6
+    actuation: str = "trajectory"
     # The live settings' starting values (README: "Live settings"): they change while the node runs.
     intensity: float = 1.0
     move_arms: bool = True
@@ -352,6 +357,9 @@ KEYS: Dict[str, KeySpec] = OrderedDict((spec.name, spec) for spec in (
          "12 / breathsPerMinute times gestureDuration", default=12.0),
     _key("breathingAmplitude", "breathing_amplitude", number_in(0.0, 1.0), _format_number, _UNIT,
          "the breathing style's amplitude, as a fraction of each joint's band", default=0.6),
+    _key("actuation", "actuation", _one_of(ACTUATIONS), str, "trajectory or joint_angles",
+         "trajectory: FollowJointTrajectory goals to the topic file's controllers; joint_angles: the same motion "
+         "streamed to its JointAngles topic (naoqi_driver); read when the node starts", default="trajectory"),
     _key("intensity", "intensity", number_in(0.0, 1.0), _format_number, _UNIT,
          "scales every joint's band about its centre: 1 the bands above, 0 no motion", default=1.0),
     _key("moveArms", "move_arms", _boolean, _format_boolean, "true or false",

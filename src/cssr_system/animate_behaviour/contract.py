@@ -37,19 +37,22 @@ PURPOSE_HOME = "home"  # after a disable: a part's return to its centre, the bas
 
 GOAL_SENT = "goal_sent"  # part, label, action, purpose, joints, centre, lower, upper, moving, times, positions
 GOAL_FINISHED = "goal_finished"  # part, action, purpose, goal, state, error_code, error_string, reached
+# part, topic, messages, seconds: a part's /joint_angles stream (actuation joint_angles) is summed up once a second,
+# since one line per message (ten or more a second per part) would drown the log.
+ANGLES_SENT = "angles_sent"
 CONTROLLER_CONNECTED = "controller_connected"  # part, action
 CONTROLLER_WAITING = "controller_waiting"  # part, action, seconds
 CONTROLLER_LOST = "controller_lost"  # part, action
 BASE_COMMAND = "base_command"  # topic, kind, purpose, angle, target_heading, period, velocities
 ERROR = "error"  # where, message
 NODE_STOPPED = "node_stopped"  # reason
-PART_YIELDED = "part_yielded"  # part, controller, caller, kind (goal, command or twist)
+PART_YIELDED = "part_yielded"  # part, controller, caller, kind (goal, command, twist or joint_angles)
 PART_RESUMED = "part_resumed"  # part, controller, caller, seconds (how long it yielded)
 SETTING_CHANGED = "setting_changed"  # key, old, new, by (who asked: README "Live settings")
 ANIMATE_GOAL = "animate_goal"  # outcome (accepted: by, duration; succeeded or preempted: animated, reason)
 LOG_EVENTS = (NODE_STARTED, CONFIGURATION_LOADED, CONFIGURATION_INVALID, ACTIVATION_REQUEST, BEHAVIOUR_STARTED,
-              BEHAVIOUR_ENDED, GOAL_SENT, GOAL_FINISHED, CONTROLLER_CONNECTED, CONTROLLER_WAITING, CONTROLLER_LOST,
-              BASE_COMMAND,
+              BEHAVIOUR_ENDED, GOAL_SENT, GOAL_FINISHED, ANGLES_SENT, CONTROLLER_CONNECTED, CONTROLLER_WAITING,
+              CONTROLLER_LOST, BASE_COMMAND,
               PART_YIELDED, PART_RESUMED, SETTING_CHANGED, ANIMATE_GOAL, ERROR, NODE_STOPPED)
 JOINT_STATES_TOPIC = "joint_states"  # relative: resolves to /joint_states
 # Private parameters that are not overrides of configuration keys: the node's own, and dynamic_reconfigure's

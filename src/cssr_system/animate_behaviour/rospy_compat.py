@@ -50,3 +50,12 @@ def write_at_once(publisher) -> None:
     thread per connection. Call it before the publisher's first connection: rospy wraps each new connection as the
     queue size says at that moment."""
     publisher.impl.set_queue_size(None)
+
+
+def has_subscriber_other_than(publisher, caller_id: str) -> bool:
+    """Whether a node other than `caller_id` is connected to `publisher`.
+
+    The node subscribes to the JointAngles topic it publishes on (to notice other nodes' calls), so the subscriber
+    count alone would find naoqi_driver even where none runs. rospy names each subscriber connection of a publisher
+    by the subscriber's caller id (the ``endpoint_id`` that `has_connection` compares)."""
+    return any(connection.endpoint_id != caller_id for connection in list(publisher.impl.connections))

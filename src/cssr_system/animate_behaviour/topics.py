@@ -3,11 +3,13 @@
 A topic file is a key-value file (`key_value_file`).
 
 In a topic file the keys are ``RArm``, ``LArm``, ``RHand``, ``LHand``, ``Leg`` (the namespaces of
-``control_msgs/FollowJointTrajectory`` action servers) and ``Wheels`` (a ``geometry_msgs/Twist``
-topic), each at most once. A part whose key is absent is skipped (the simulator has no hands), but a
-file must name at least one. The value is one legal ROS graph name: it starts with ``/`` or a letter
-and holds only letters, digits, ``_`` and ``/``, with no ``//`` and no trailing ``/``. Dots are not
-legal in ROS names: write ``/pepper_dcm/cmd_moveto``, not ``/pepper_dcm/cmd.moveto``.
+``control_msgs/FollowJointTrajectory`` action servers), ``Wheels`` (a ``geometry_msgs/Twist``
+topic) and ``JointAngles`` (naoqi_driver's ``naoqi_bridge_msgs/JointAnglesWithSpeed`` topic, used with the
+configuration's ``actuation joint_angles``; default DEFAULT_JOINT_ANGLES_TOPIC), each at most once. A part
+whose key is absent is skipped (the simulator has no hands), but a file must name at least one key. The
+value is one legal ROS graph name: it starts with ``/`` or a letter and holds only letters, digits, ``_``
+and ``/``, with no ``//`` and no trailing ``/``. Dots are not legal in ROS names: write
+``/pepper_dcm/cmd_moveto``, not ``/pepper_dcm/cmd.moveto``.
 
 Every problem of a file is reported, each on one line naming the file and line, and raised together
 as one `TopicFileError`.
@@ -22,10 +24,12 @@ from cssr_system.pepper.joint_table import PARTS
 
 
 WHEELS_KEY = "Wheels"
+JOINT_ANGLES_KEY = "JointAngles"
+DEFAULT_JOINT_ANGLES_TOPIC = "/joint_angles"  # where naoqi_driver listens unless remapped
 
 
-# The joint parts of joint_table, then the base.
-TOPIC_KEYS = tuple(PARTS) + (WHEELS_KEY,)
+# The joint parts of joint_table, then the base, then the topic of the joint_angles actuation.
+TOPIC_KEYS = tuple(PARTS) + (WHEELS_KEY, JOINT_ANGLES_KEY)
 
 
 _ROS_GRAPH_NAME = re.compile(r"(?:/|[A-Za-z])[A-Za-z0-9_/]*\Z", re.ASCII)
@@ -40,7 +44,7 @@ class TopicFileError(ValueError):
 
 
 class TopicMap(NamedTuple):
-    """The topics of one platform: part key -> topic name, in TOPIC_KEYS order; absent parts are skipped."""
+    """The topics of one platform: key -> topic name, in TOPIC_KEYS order; absent keys are skipped."""
 
     path: str
     topics: Mapping[str, str]
@@ -82,3 +86,8 @@ def parse_topic_map(text: str, source: str) -> TopicMap:
 def load_topic_map(path: str) -> TopicMap:
     """The topic map in the file at `path`. Raises TopicFileError, also when the file cannot be read."""
     return parse_topic_map(read_key_value_file(path, TopicFileError), path)
+
+
+def joint_angles_topic(topics: Mapping[str, str]) -> str:
+    """The topic the joint_angles actuation streams to: the topic file's JointAngles, else the default."""
+    return topics.get(JOINT_ANGLES_KEY, DEFAULT_JOINT_ANGLES_TOPIC)

@@ -839,6 +839,11 @@ class NaoqiDriver:
         self._speeds[index] = speed * self._max_velocity[index]
         self.calls += 1
 
+    @property
+    def targets(self) -> numpy.ndarray:
+        """Every joint's target (joint_names order): where its latest call sends it (where it started: none)."""
+        return self._targets.copy()
+
     def state(self, now: float) -> Tuple[numpy.ndarray, numpy.ndarray]:
         """Positions and velocities of every joint (joint_names order) at `now`."""
         offsets = self._targets - self._origins
@@ -923,6 +928,18 @@ class SimulatedPepper:
     def commanded_state(self, now: float) -> JointStateSample:
         """What the controllers command for every joint (JOINTS order, then the wheels): their desired state."""
         return self._sample(now, lambda controller: controller.state(now))
+
+    def driver_commands(self, now: float) -> JointStateSample:
+        """What the joints are commanded (JOINTS order, then the wheels): the controllers' desired state, or with
+        NAOQI_DRIVER, whose joints the controllers do not move, each joint's latest setAngles target (with the
+        velocity that call gives it)."""
+        commanded = self.commanded_state(now)
+        if not isinstance(self.driver, NaoqiDriver):
+            return commanded
+        count = len(JOINTS)
+        _, velocities = self.driver.state(now)
+        return JointStateSample(commanded.names, self.driver.targets.tolist() + commanded.positions[count:],
+                                velocities.tolist() + commanded.velocities[count:])
 
     def _sample(self, now: float, state_of) -> JointStateSample:
         positions = dict((joint, 0.0) for joint in WHEEL_JOINTS)

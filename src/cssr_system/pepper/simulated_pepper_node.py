@@ -39,8 +39,8 @@ Publishes:
                        with ~driver naoqi_dcm or naoqi_driver, what the driver executes)
   <ns>/odom            nav_msgs/Odometry, 50 Hz, base heading (frame odom, child base_footprint)
   ~limit_violations    std_msgs/UInt32, latched: goal point values beyond a joint limit so far
-  ~commanded_joint_states  sensor_msgs/JointState, 50 Hz, with ~driver naoqi_dcm or naoqi_driver: what the
-                       controllers command
+  ~commanded_joint_states  sensor_msgs/JointState, 50 Hz, with ~driver naoqi_dcm: what the controllers
+                       command; with naoqi_driver: each joint's latest /joint_angles target
 """
 import functools
 import threading
@@ -275,7 +275,7 @@ class SimulatedPepperNode:
         self.joint_state_publisher.publish(self._joint_state)
         if self.model.driver is not None:
             with self._lock:
-                commanded = self.model.commanded_state(now)
+                commanded = self.model.driver_commands(now)
             self._commanded.header.stamp = stamp
             self._commanded.position = commanded.positions
             self._commanded.velocity = commanded.velocities

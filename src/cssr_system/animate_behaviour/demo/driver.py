@@ -43,6 +43,7 @@ from cssr_system.animate_behaviour.live_settings import PRESETS
 from cssr_system.animate_behaviour.event_log import read_log
 from cssr_system.animate_behaviour.recording.recording import (RunSetting, run_setting, yaw_from_quaternion,
                                                                BASE_LABEL)
+from cssr_system.animate_behaviour.topics import DEFAULT_JOINT_ANGLES_TOPIC
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.msg import AnimateBehaviourStatus
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
@@ -63,15 +64,17 @@ class Interrupted(Exception):
     """A stop was requested (signal or shutdown request)."""
 
 
-def records_the_node(recorder: str, node: str = "/" + contract.NODE_NAME) -> bool:
+def records_the_node(recorder: str, node: str = "/" + contract.NODE_NAME,
+                     joint_angles: str = DEFAULT_JOINT_ANGLES_TOPIC) -> bool:
     """Whether the master lists `recorder` among the subscribers of /joint_states and of every goal topic `node`
-    publishes: the node sends its first goals within milliseconds of the enable, and a goal topic joined later
-    misses them."""
+    publishes (and of `joint_angles`, where it streams its calls): the node sends its first goals within
+    milliseconds of the enable, and a goal topic joined later misses them."""
     try:
         publishers, subscribers, _ = rosgraph.Master(rospy.get_name()).getSystemState()
     except Exception:  # noqa: BLE001 - the master is checked again on the next try
         return False
-    goals = [topic for topic, nodes in publishers if topic.endswith("/goal") and node in nodes]
+    goals = [topic for topic, nodes in publishers
+             if (topic.endswith("/goal") or topic == joint_angles) and node in nodes]
     listening = {topic for topic, nodes in subscribers if recorder in nodes}
     return bool(goals) and all(topic in listening for topic in goals + ["/joint_states"])
 

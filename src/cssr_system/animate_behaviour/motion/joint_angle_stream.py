@@ -165,3 +165,19 @@ def stop_duration(positions: Mapping[str, float], message: JointAngles) -> float
     _, _, max_velocity = _limits(message.joint_names)
     distances = numpy.abs(numpy.array(message.joint_angles) - [positions[name] for name in message.joint_names])
     return float((distances / (message.speed * max_velocity)).max(initial=0.0))
+
+
+def set_angles_duration(names: Sequence[str], angles: Sequence[float], speed: float, relative: int,
+                        positions: Mapping[str, float]) -> float:
+    """How long one setAngles call (any node's /joint_angles message) moves the joints of `positions` (where they
+    are) that it names: until the slowest of them arrives (s); 0 for a call naoqi_driver refuses."""
+    if len(names) != len(angles) or not (math.isfinite(speed) and 0.0 < speed <= 1.0):
+        return 0.0
+    longest = 0.0
+    for name, angle in zip(names, angles):
+        if name not in positions or name not in JOINTS or not math.isfinite(angle):
+            continue
+        joint = JOINTS[name]
+        target = min(max(positions[name] + angle if relative else angle, joint.lower), joint.upper)
+        longest = max(longest, abs(target - positions[name]) / (speed * joint.max_velocity))
+    return longest

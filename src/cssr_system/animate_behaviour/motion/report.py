@@ -1,12 +1,14 @@
-"""What a person will see: figures of each motion style on the ideal controller and on the robot's driver
-(`make motion-report`, README: "Motion styles").
+"""What a person will see: figures of each motion style on the ideal controller, on the robot's driver and on
+naoqi_driver fed by the joint_angles actuation (`make motion-report`, README: "Motion styles").
 
 A run is computed, not recorded: the style's planners (`styles.MotionStyle`) give each part's goals, chained as the
 node chains them (the random style's next goal when the previous one ends, the breathing style's before it ends),
 each starting from what the controller executes; the controller's interpolation
 (`pepper.trajectory_interpolation`) gives the commanded joints at 50 Hz; with the driver, `NaoqiDcmDriver` (the
 physical robot's naoqi_dcm_driver: 12 Hz writes past a 0.09 rad dead band, 20 % speed) turns them into what the
-robot executes. Deterministic for a seed; a minute takes about a second. Pure Python and numpy.
+robot executes; with joint_angles, the node's stream (`joint_angle_stream.tick` at its send times) feeds
+`NaoqiDriver` (naoqi_driver's setAngles). Deterministic for a seed; a minute takes about a second. Pure Python
+and numpy.
 """
 import argparse
 import sys
@@ -15,16 +17,21 @@ from typing import Dict, List, NamedTuple, Sequence, Tuple
 import numpy
 
 from cssr_system.animate_behaviour.configuration import load_configuration, shipped_configuration_path
+from cssr_system.animate_behaviour.motion import joint_angle_stream
 from cssr_system.animate_behaviour.motion.styles import MotionStyle
 from cssr_system.animate_behaviour.motion.trajectory_timing import to_points
 from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng
 from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, MIRRORED_JOINTS, PARTS, short_name
-from cssr_system.pepper.simulated_pepper import NaoqiDcmDriver
+from cssr_system.pepper.simulated_pepper import NaoqiDcmDriver, NaoqiDriver
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
 
 SAMPLE_RATE = 50.0  # Hz
 MOVING_SPEED = 0.005  # rad/s (unit/s for a hand): a joint slower than this counts as still
 PERIOD_RANGE = (1.0, 30.0)  # s: the periods a person reads as a rhythm
+# Peak to peak (rad; a hand's opening) a person sees without a dead band in the way: about a centimetre at a hand.
+VISIBLE_AMPLITUDE = 0.02
+TITLES = {"ideal": "ideal controller", "naoqi_dcm": "robot's driver (naoqi_dcm)",
+          "joint_angles": "robot via joint_angles (naoqi_driver)"}
 
 
 class JointFigures(NamedTuple):
@@ -36,30 +43,61 @@ class JointFigures(NamedTuple):
     rms_speed: float
     rms_jerk: float
     side_correlation: float  # with the same joint of the other side (mirrored where the limits are); nan: none
-    visible: bool  # peak to peak >= the driver's dead band
+    visible: bool  # peak to peak >= what shows: the driver's dead band, or VISIBLE_AMPLITUDE without one
+
+
+class ChainedPlans:
+    """A part's goals chained as the node chains them, each starting from the state of the previous one; sampled
+    like one spline (`sample(t)` -> positions, velocities, accelerations)."""
+
+    def __init__(self, plan, part: str, seconds: float) -> None:
+        lead = plan.continuation_lead or 0.0
+        count = len(PARTS[part].joints)
+        state = (numpy.array(PARTS[part].centre, dtype=float), numpy.zeros(count), numpy.zeros(count))
+        now, self.pieces = 0.0, []
+        while now < seconds:
+            spline = JointTrajectorySpline(*state, to_points(plan(now, *state)), start_time=now)
+            self.pieces.append(spline)
+            now = spline.end_time - lead
+            state = tuple(numpy.asarray(values, dtype=float) for values in spline.sample(now))
+        self._starts = numpy.array([spline.start_time for spline in self.pieces])
+
+    def sample(self, t: float):
+        return self.pieces[max(0, int(numpy.searchsorted(self._starts, t, side="right")) - 1)].sample(t)
+
+
+def planned_run(config, seconds: float, seed: int) -> List[Tuple[Tuple[str, ...], ChainedPlans]]:
+    """(joints, their chained plans) of each part the configuration animates."""
+    style = MotionStyle(config, make_rng(seed))
+    return [(motion.joints, ChainedPlans(style.planner(motion), motion.part, seconds))
+            for motion in animated_parts(config, tuple(PARTS))]
 
 
 def commanded_run(config, seconds: float, seed: int) -> Tuple[numpy.ndarray, Tuple[str, ...], numpy.ndarray]:
     """(times, joint names, commanded positions (times x joints)) of the parts the configuration animates."""
-    style = MotionStyle(config, make_rng(seed))
     times = numpy.arange(0.0, seconds, 1.0 / SAMPLE_RATE)
-    names, columns = [], []
-    for motion in animated_parts(config, tuple(PARTS)):
-        plan = style.planner(motion)
-        lead = getattr(plan, "continuation_lead", 0.0)
-        state = (numpy.array(PARTS[motion.part].centre, dtype=float), numpy.zeros(len(motion.joints)),
-                 numpy.zeros(len(motion.joints)))
-        now, pieces = 0.0, []
-        while now < seconds:
-            spline = JointTrajectorySpline(*state, to_points(plan(now, *state)), start_time=now)
-            pieces.append((now, spline))
-            now = spline.end_time - lead
-            state = tuple(numpy.asarray(values, dtype=float) for values in spline.sample(now))
-        starts = numpy.array([start for start, _ in pieces])
-        rows = [pieces[numpy.searchsorted(starts, moment, side="right") - 1][1].sample(moment)[0] for moment in times]
-        names += list(motion.joints)
+    plans = planned_run(config, seconds, seed)
+    columns = [numpy.array([plan.sample(moment)[0] for moment in times]) for _, plan in plans]
+    return times, tuple(name for joints, _ in plans for name in joints), numpy.hstack(columns)
+
+
+def executed_by_joint_angles(times: numpy.ndarray, plans: List[Tuple[Tuple[str, ...], ChainedPlans]]) -> numpy.ndarray:
+    """What naoqi_driver executes of each part's stream (the node's send times, its calls at once), at `times`."""
+    columns = []
+    for joints, plan in plans:
+        driver = NaoqiDriver(joints, plan.sample(times[0])[0], times[0])
+        origins, rows, sample = driver.state(times[0])[0], [], 0
+        for now in joint_angle_stream.send_times(times[0], times[-1] + joint_angle_stream.PERIOD):
+            while sample < len(times) and times[sample] < now:
+                rows.append(driver.state(times[sample])[0])
+                sample += 1
+            tick = joint_angle_stream.tick(joints, plan, now, origins)
+            for call in tick.messages:
+                driver.set_angles(call.joint_names, call.joint_angles, call.speed, now)
+            origins = tick.arrivals
+        rows += [driver.state(moment)[0] for moment in times[sample:]]
         columns.append(numpy.array(rows))
-    return times, tuple(names), numpy.hstack(columns)
+    return numpy.hstack(columns)
 
 
 def executed_by_driver(times: numpy.ndarray, names: Sequence[str], commanded: numpy.ndarray) -> numpy.ndarray:
@@ -84,7 +122,8 @@ def _dominant_period(signal: numpy.ndarray) -> Tuple[float, float]:
     return period, float(numpy.corrcoef(centred[:-lag], centred[lag:])[0, 1])
 
 
-def figures(times: numpy.ndarray, names: Sequence[str], positions: numpy.ndarray) -> List[JointFigures]:
+def figures(times: numpy.ndarray, names: Sequence[str], positions: numpy.ndarray,
+            visible_from: float = DRIVER_JOINT_PRECISION) -> List[JointFigures]:
     dt = 1.0 / SAMPLE_RATE
     velocities = numpy.gradient(positions, dt, axis=0)
     jerks = numpy.gradient(numpy.gradient(velocities, dt, axis=0), dt, axis=0)
@@ -103,7 +142,7 @@ def figures(times: numpy.ndarray, names: Sequence[str], positions: numpy.ndarray
         result.append(JointFigures(name, peak_to_peak, moving,
                                    period, autocorrelation, float(numpy.sqrt(numpy.mean(velocities[:, column] ** 2))),
                                    float(numpy.sqrt(numpy.mean(jerks[:, column] ** 2))), side,
-                                   peak_to_peak >= DRIVER_JOINT_PRECISION))
+                                   peak_to_peak >= visible_from))
     return result
 
 
@@ -125,12 +164,15 @@ def report(config_file: str, seconds: float, seed: int) -> Dict[Tuple[str, str],
         times, names, commanded = commanded_run(config, seconds, seed)
         result[(style, "ideal")] = figures(times, names, commanded)
         result[(style, "naoqi_dcm")] = figures(times, names, executed_by_driver(times, names, commanded))
+        result[(style, "joint_angles")] = figures(times, names, executed_by_joint_angles(
+            times, planned_run(config, seconds, seed)), VISIBLE_AMPLITUDE)
     return result
 
 
 def main(argv: Sequence[str]) -> int:
     parser = argparse.ArgumentParser(prog="motion report", description="What a person sees of each motion style, "
-                                     "on the ideal controller and on the robot's driver (behaviour body, robot).")
+                                     "on the ideal controller, on the robot's driver and on naoqi_driver fed by the "
+                                     "joint_angles actuation (behaviour body, robot).")
     parser.add_argument("--config", default=None, help="configuration file (default: the shipped one)")
     parser.add_argument("--seconds", type=float, default=60.0)
     parser.add_argument("--seed", type=int, default=1)
@@ -141,7 +183,7 @@ def main(argv: Sequence[str]) -> int:
         print("motion report: error: %s" % error, file=sys.stderr)
         return 1
     for (style, driver), rows in tables.items():
-        print(format_table("== style %s, %s (%.0f s, seed %d)" % (style, "ideal controller" if driver == "ideal"
-                           else "robot's driver (naoqi_dcm)", arguments.seconds, arguments.seed), rows))
+        print(format_table("== style %s, %s (%.0f s, seed %d)" % (style, TITLES[driver], arguments.seconds,
+                                                                  arguments.seed), rows))
         print()
     return 0

@@ -4,13 +4,13 @@ the motion state.
 """
 import os
 import threading
-from typing import Dict
+from typing import Dict, Optional
 
 import rospy
 from sensor_msgs.msg import JointState
 
 from cssr_system.animate_behaviour import contract
-from cssr_system.animate_behaviour.configuration import Configuration, configuration_items
+from cssr_system.animate_behaviour.configuration import JOINT_ANGLES_ACTUATION, Configuration, configuration_items
 from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC, NODE_NAME
 from cssr_system.animate_behaviour.event_log import BackgroundLog, EventLog, default_log_path
 from cssr_system.animate_behaviour.motion.styles import MotionStyle
@@ -24,11 +24,12 @@ from cssr_system.animate_behaviour.node.goals import action_client, rehearse
 from cssr_system.animate_behaviour.node.joint_states import JointStateCache, JointStateFeed, SubscriptionSwitch
 from cssr_system.animate_behaviour.node.live_settings_server import LiveSettingsServer
 from cssr_system.animate_behaviour.node.parameters import load_node_configuration
+from cssr_system.animate_behaviour.node.joint_angle_stream import JointAngleStream, JointAnglesTopic
 from cssr_system.animate_behaviour.node.part_stream import PartStream
 from cssr_system.animate_behaviour.node.services import ActivationServices
 from cssr_system.animate_behaviour.node.status import StatusPublisher
 from cssr_system.animate_behaviour.node.supervisor import Supervisor, apply_verbosity
-from cssr_system.animate_behaviour.topics import WHEELS_KEY
+from cssr_system.animate_behaviour.topics import WHEELS_KEY, joint_angles_topic
 from cssr_system.package_files import package_dir, package_version
 from cssr_system.pepper.joint_table import PARTS
 
@@ -58,11 +59,13 @@ class AnimateBehaviourNode:
         self.services = ActivationServices(self.supervisor.events.put, self.log)
         self._watcher = ControllerWatcher(self.supervisor.part_streams, self.supervisor.events.put, self.log,
                                           self.supervisor.stopped, self.report_error)
+        self.joint_angles: Optional[JointAnglesTopic] = None  # the shared publisher of actuation joint_angles
         self.watch = ForeignCommandWatch(rospy.get_caller_id(), self.supervisor.events.put, self.clock,
                                          self.report_error, self._watcher.status_seen)
 
     def start(self, config_file: str, config: Configuration, topics: Dict[str, str]) -> None:
         self.log.write(contract.CONFIGURATION_LOADED, file=config_file, items=configuration_items(config))
+        self._choose_actuation(config, topics)
         # Clients and the base publisher connect while the node is still disabled, so the first commands leave at
         # once and none is lost to a connection not yet made.
         for key, name in topics.items():
@@ -90,8 +93,20 @@ class AnimateBehaviourNode:
     def _post(self, event) -> None:
         self.supervisor.events.put(event)
 
+    def _choose_actuation(self, config: Configuration, topics: Dict[str, str]) -> None:
+        """The actuation of this run (README: "Actuation on the robot"), and the JointAngles topic: published on
+        with joint_angles, watched for other nodes' calls either way."""
+        topic = joint_angles_topic(topics)
+        self.supervisor.actuation = config.actuation
+        if config.actuation == JOINT_ANGLES_ACTUATION:
+            self.joint_angles = JointAnglesTopic(topic, rospy.get_caller_id())
+        self.watch.watch_joint_angles(topic, self.joint_states.positions)
+
     def _make_part(self, part: str, action: str) -> PartStream:
-        self.watch.watch_controller(action)
+        self.watch.watch_controller(action)  # other nodes' goals still move the part where pepper_dcm runs too
+        if self.joint_angles is not None:
+            return JointAngleStream(part, action, self.joint_angles, self.clock, self.joint_states.positions,
+                                    self.log)
         return PartStream(part, action, action_client(action), self.clock, self.joint_states.positions,
                           self.supervisor.events.put, self.log)
 

@@ -21,6 +21,13 @@ WATCH_PERIOD = 0.5  # s between checks of the controllers
 WAIT_REPORT_PERIOD = 10.0  # s between log lines about a controller that is still missing
 
 
+def controller_ready(stream) -> bool:
+    """A part stream's controller is there: its own test (a joint-angle stream: naoqi_driver subscribes to its
+    topic), else actionlib's (a goal stream: its action server answers)."""
+    own_test = getattr(stream, "controller_ready", None)
+    return own_test() if own_test is not None else server_ready(stream.client)
+
+
 class ControllerWatcher:
     def __init__(self, streams: Callable[[], List], post: Callable[[object], None], log,
                  stopped: threading.Event, report_error: Callable[[str, Exception], None]) -> None:
@@ -52,7 +59,7 @@ class ControllerWatcher:
     def check(self) -> None:
         for stream in self._streams():
             action = stream.action
-            ready = server_ready(stream.client)
+            ready = controller_ready(stream)
             (self._ready.add if ready else self._ready.discard)(action)
             if ready and not stream.connected:
                 self._post(ControllerConnected(stream.part, action))
@@ -65,7 +72,8 @@ class ControllerWatcher:
             if (waited >= WAIT_REPORT_PERIOD
                     and time.monotonic() - self._last_report.get(action, 0.0) >= WAIT_REPORT_PERIOD):
                 self._last_report[action] = time.monotonic()
+                controller = getattr(stream, "controller", action)  # a joint-angle stream's topic
                 rospy.logwarn("%s: still waiting for controller %s (%.0f s); %s is skipped "
-                              "until it appears.", NODE_NAME, action, waited, stream.part)
-                self._log.write(contract.CONTROLLER_WAITING, part=stream.part, action=action,
+                              "until it appears.", NODE_NAME, controller, waited, stream.part)
+                self._log.write(contract.CONTROLLER_WAITING, part=stream.part, action=controller,
                                 seconds=round(waited, 1))

@@ -1,7 +1,7 @@
 """Events posted to the supervisor's queue by the service, actionlib's callbacks, the watcher and signals.
 """
 import threading
-from typing import Dict, NamedTuple, Optional
+from typing import Dict, NamedTuple, Optional, Tuple
 
 from cssr_system.animate_behaviour.configuration import Configuration
 
@@ -61,6 +61,14 @@ class ForeignCommand(NamedTuple):
     action: str
     caller: str
     last_point_at: float
+
+
+class ForeignJointAngles(NamedTuple):
+    """Another node's setAngles call on naoqi_driver's JointAngles topic, naming joints of our parts."""
+    topic: str
+    caller: str
+    joints: Tuple[str, ...]  # the joints of our parts it names
+    last_point_at: float  # when its slowest joint arrives
 
 
 class ForeignTwist(NamedTuple):

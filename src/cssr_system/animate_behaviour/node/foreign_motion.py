@@ -6,21 +6,22 @@ README: "Sharing the robot". Another node's command makes a part yield. A motion
   last point is known and no end comes, until RESULT_GRACE after that point;
 - a trajectory on the controller's ``command`` topic (it has no result): until its last point has passed;
 - a Twist on the base topic: until the base is done with it (a relative turn's time on ``cmd_moveto``,
-  the velocity time-out on a velocity topic).
+  the velocity time-out on a velocity topic);
+- a call on naoqi_driver's JointAngles topic (setAngles): until its slowest joint arrives.
 
 The part may move again `quiet_time` after the last of them ended; a new motion meanwhile (a chain of goals)
 keeps it yielding. Times are seconds on the clock the controllers execute on. Pure Python: no ROS.
 """
 from typing import Dict, NamedTuple, Optional
 
-GOAL, COMMAND, TWIST = "goal", "command", "twist"
+GOAL, COMMAND, TWIST, JOINT_ANGLES = "goal", "command", "twist", "joint_angles"
 RESULT_GRACE = 1.0  # s after a goal's last point before a missing result no longer holds the part
 DEFAULT_QUIET_TIME = 1.0  # s of calm after another node's motion before a part moves again
 
 
 class ForeignMotion(NamedTuple):
     caller: str  # the other node's caller id
-    kind: str  # GOAL, COMMAND or TWIST
+    kind: str  # GOAL, COMMAND, TWIST or JOINT_ANGLES
     started: float
     last_point_at: Optional[float]  # when its last point passes or the base is done; None: unknown
     ended_at: Optional[float]  # when its result came (goals only)
@@ -84,7 +85,7 @@ class ForeignMotionTracker:
         return self.resume_at(now) if self._motions else None
 
     def kind_of_latest(self) -> str:
-        """The kind of the latest motion seen (GOAL, COMMAND or TWIST), or "" when none is known."""
+        """The kind of the latest motion seen (GOAL, COMMAND, TWIST or JOINT_ANGLES), or "" when none is known."""
         latest = max(self._motions.values(), key=lambda motion: motion.started, default=None)
         return latest.kind if latest is not None else ""
 

@@ -6,22 +6,27 @@ at each change and a few times a second. The node's action clients receive it an
 connection per topic inside a node, so watching it costs no connection and no thread (a subscription to
 ``<action>/goal`` would cost two threads per controller and the deserialization of every goal). actionlib
 starts each goal id with its client's node name, which tells whose goal it is. Trajectories on a
-controller's ``command`` topic and Twists on the base topic are watched directly; this node's own Twists are
-recognised by their caller id."""
+controller's ``command`` topic, Twists on the base topic and setAngles calls on naoqi_driver's JointAngles topic
+are watched directly; this node's own Twists and calls are recognised by their caller id."""
 import threading
 from collections import defaultdict
-from typing import Callable, Dict, Set
+from typing import Callable, Dict, Optional, Sequence, Set
 
+import numpy
 import rospy
 from actionlib_msgs.msg import GoalStatus, GoalStatusArray
 from geometry_msgs.msg import Twist
+from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 from trajectory_msgs.msg import JointTrajectory
 
+from cssr_system.animate_behaviour.motion.joint_angle_stream import set_angles_duration
 from cssr_system.animate_behaviour.rospy_compat import caller_of, caller_of_goal
-from cssr_system.animate_behaviour.node.events import ForeignCommand, ForeignGoal, ForeignResult, ForeignTwist
-from cssr_system.pepper.joint_table import command_topic
+from cssr_system.animate_behaviour.node.events import (ForeignCommand, ForeignGoal, ForeignJointAngles,
+                                                       ForeignResult, ForeignTwist)
+from cssr_system.pepper.joint_table import PARTS, centre_of, command_topic
 
 RUNNING_STATES = (GoalStatus.PENDING, GoalStatus.ACTIVE, GoalStatus.PREEMPTING, GoalStatus.RECALLING)
+ANIMATED_JOINTS = frozenset(name for part in PARTS.values() for name in part.joints)
 
 
 def trajectory_end(trajectory: JointTrajectory, received_at: float) -> float:
@@ -43,6 +48,8 @@ class ForeignCommandWatch:
         self._running: Dict[str, Set[str]] = defaultdict(set)  # per action: other clients' goals seen running
         self._lock = threading.Lock()
         self._subscribers = []  # kept for the node's life
+        # The measured positions of joints (None when unknown), for how long another node's setAngles call runs.
+        self._positions: Callable[[Sequence[str]], Optional[numpy.ndarray]] = lambda joints: None
 
     def watch_controller(self, action: str) -> None:
         self._subscribers += [
@@ -53,6 +60,12 @@ class ForeignCommandWatch:
     def watch_base(self, topic: str) -> None:
         self._subscribers.append(rospy.Subscriber(topic, Twist, self._guarded(self._on_twist), callback_args=topic,
                                                   queue_size=10))
+
+    def watch_joint_angles(self, topic: str, positions: Callable[[Sequence[str]], Optional[numpy.ndarray]]) -> None:
+        """naoqi_driver's JointAngles topic; `positions` gives the measured joints (JointStateCache.positions)."""
+        self._positions = positions
+        self._subscribers.append(rospy.Subscriber(topic, JointAnglesWithSpeed, self._guarded(self._on_joint_angles),
+                                                  callback_args=topic, queue_size=10))
 
     def _guarded(self, callback):
         """`callback`, reporting an unexpected error in one line instead of rospy's traceback."""
@@ -98,3 +111,17 @@ class ForeignCommandWatch:
         caller = caller_of(message)
         if caller and caller != self._own:
             self._post(ForeignTwist(topic, caller, message))
+
+    def _on_joint_angles(self, message: JointAnglesWithSpeed, topic: str) -> None:
+        """Posts a ForeignJointAngles for another node's call naming joints of our parts, with when it ends (from
+        the measured joints; from their centres when unmeasured)."""
+        caller = caller_of(message)
+        joints = tuple(name for name in message.joint_names if name in ANIMATED_JOINTS)
+        if caller == self._own or not joints:
+            return
+        now = self._clock()
+        measured = self._positions(joints)
+        where = dict(zip(joints, measured.tolist() if measured is not None else map(centre_of, joints)))
+        duration = set_angles_duration(message.joint_names, message.joint_angles, message.speed, message.relative,
+                                       where)
+        self._post(ForeignJointAngles(topic, caller or "unknown", joints, now + duration))

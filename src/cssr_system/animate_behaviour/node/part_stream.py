@@ -222,10 +222,12 @@ class PartStream(MotionStream):
         self.retry_at = None
         self.start_yielding(caller, self._clock(), why)
 
-    def foreign_command(self, caller: str, last_point_at: float) -> None:
-        """Another node's trajectory on the controller's command topic."""
+    def foreign_command(self, caller: str, last_point_at: float, kind: str = COMMAND,
+                        key: Optional[str] = None) -> None:
+        """Another node's trajectory on the controller's command topic, or (`kind` JOINT_ANGLES) its setAngles call
+        on naoqi_driver's topic, which `key` names so that each call replaces the previous one on the same joints."""
         self._command_count += 1
-        self.foreign_motion("command-%d" % self._command_count, caller, COMMAND, last_point_at)
+        self.foreign_motion(key or "command-%d" % self._command_count, caller, kind, last_point_at)
 
     def foreign_result(self, key: str) -> None:
         """A goal's result on the controller's action (ours are ignored by the tracker)."""

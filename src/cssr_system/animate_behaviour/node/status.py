@@ -15,7 +15,8 @@ from cssr_system.msg import AnimateBehaviourStatus, PartStatus
 
 def part_rows(part_streams, base_streams) -> tuple:
     """(part, controller, state, yielding_to) of each part and of the base."""
-    parts = tuple((stream.part, stream.action, stream.state.value, stream.yielding_to) for stream in part_streams)
+    # The controller that executes: a goal stream's action, a joint-angle stream's topic.
+    parts = tuple((stream.part, stream.controller, stream.state.value, stream.yielding_to) for stream in part_streams)
     return parts + tuple((WHEELS_KEY, base.topic, base.state.value, base.yielding_to) for base in base_streams)
 
 

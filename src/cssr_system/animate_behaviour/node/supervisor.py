@@ -14,7 +14,7 @@ from typing import Callable, Dict, List, Optional
 import rospy
 
 from cssr_system.animate_behaviour import contract
-from cssr_system.animate_behaviour.configuration import Configuration, configuration_items
+from cssr_system.animate_behaviour.configuration import TRAJECTORY_ACTUATION, Configuration, configuration_items
 from cssr_system.animate_behaviour.contract import NODE_NAME
 from cssr_system.animate_behaviour.live_settings import changed_settings
 from cssr_system.animate_behaviour.motion.styles import MotionStyle
@@ -23,9 +23,9 @@ from cssr_system.animate_behaviour.node.animate_action import (CANCELLED, DISABL
                                                                Session)
 from cssr_system.animate_behaviour.node.base_stream import BaseStream
 from cssr_system.animate_behaviour.node.events import (AnimateCancel, AnimateGoal, ControllerConnected, ControllerLost,
-                                                       Disable, Enable, ForeignCommand, ForeignGoal, ForeignResult,
-                                                       ForeignTwist, GoalDone, Reconfigure, Shutdown)
-from cssr_system.animate_behaviour.node.foreign_motion import GOAL
+                                                       Disable, Enable, ForeignCommand, ForeignGoal, ForeignJointAngles,
+                                                       ForeignResult, ForeignTwist, GoalDone, Reconfigure, Shutdown)
+from cssr_system.animate_behaviour.node.foreign_motion import GOAL, JOINT_ANGLES
 from cssr_system.animate_behaviour.node.joint_states import FeedState
 from cssr_system.animate_behaviour.node.part_stream import PartStream
 from cssr_system.animate_behaviour.node.status import part_rows, part_statuses
@@ -62,6 +62,7 @@ class Supervisor:
         self._sync_settings = sync_settings
         self.session: Optional[Session] = None  # the animate action's goal in force
         self.settings_by = "configuration"  # who set the live settings in force
+        self.actuation = TRAJECTORY_ACTUATION  # the configuration's actuation at start-up, which made the part streams
         self.parts: Dict[str, PartStream] = {}  # by action namespace: one client each, kept for life
         self._parts_lock = threading.Lock()  # the watcher reads `parts` while the supervisor adds
         self.bases: Dict[str, BaseStream] = {}
@@ -78,6 +79,7 @@ class Supervisor:
                           ControllerLost: self._on_controller_lost, ForeignGoal: self._on_foreign_goal,
                           ForeignResult: self._on_foreign_result, ForeignCommand: self._on_foreign_command,
                           ForeignTwist: self._on_foreign_twist, Reconfigure: self._on_reconfigure,
+                          ForeignJointAngles: self._on_foreign_joint_angles,
                           AnimateGoal: self._on_animate_goal, AnimateCancel: self._on_animate_cancel}
 
     # -- streams ------------------------------------------------------------------------------------
@@ -246,6 +248,14 @@ class Supervisor:
     def _on_foreign_command(self, event: ForeignCommand) -> None:
         self.parts[event.action].foreign_command(event.caller, event.last_point_at)
 
+    def _on_foreign_joint_angles(self, event: ForeignJointAngles) -> None:
+        """Another node's setAngles call: each part with a joint it names yields (one motion per caller and joints:
+        a later call on the same joints takes over, as setAngles does)."""
+        key = "%s:%s" % (event.caller, ",".join(event.joints))
+        for stream in list(self.parts.values()):
+            if set(event.joints) & set(PARTS[stream.part].joints):
+                stream.foreign_command(event.caller, event.last_point_at, JOINT_ANGLES, key)
+
     def _on_foreign_twist(self, event: ForeignTwist) -> None:
         self.bases[event.topic].foreign_twist(event.caller, event.twist, self.clock())
 
@@ -265,6 +275,7 @@ class Supervisor:
         self._log_settings(config, by)
         self.config = config
         apply_verbosity(config)
+        self._warn_actuation(config)
         self.log.write(contract.CONFIGURATION_LOADED, file=config_file, items=configuration_items(config))
         motions = {motion.part: motion for motion in animated_parts(config, [key for key in topics if key in PARTS])}
         # Parts that no longer move (new behaviour or platform) go home as on disable.
@@ -293,9 +304,17 @@ class Supervisor:
             self.active_base.start(config, style, self.rng, self.clock())
         return wheels
 
+    def _warn_actuation(self, config: Configuration) -> None:
+        """The streams were made for the actuation of start-up (`actuation`): another one needs a restart."""
+        if config.actuation != self.actuation:
+            rospy.logwarn("%s: actuation %s is read at start-up only: this node goes on with %s.", NODE_NAME,
+                          config.actuation, self.actuation)
+
     def _warn_narrow_bands(self, config: Configuration, motions: list) -> None:
-        """Once per configuration, not at every enable: the same lines again and again say nothing new."""
-        warnings = narrow_bands(motions, DRIVER_JOINT_PRECISION) if config.platform == "robot" else []
+        """Once per configuration, not at every enable: the same lines again and again say nothing new. Only for
+        pepper_dcm's goals: naoqi_driver's setAngles has no dead band."""
+        dead_band = config.platform == "robot" and self.actuation == TRAJECTORY_ACTUATION
+        warnings = narrow_bands(motions, DRIVER_JOINT_PRECISION) if dead_band else []
         if warnings != self._band_warnings:
             for line in warnings:
                 rospy.logwarn("%s: %s.", NODE_NAME, line)

@@ -11,6 +11,12 @@ one node at given times: the position that node told the controller to be at, Na
 node's goal (or nothing) was in effect. `goal_marks` turns the goals of other nodes into labelled
 intervals of the recording (from receipt to result).
 
+With the joint_angles actuation the node sends setAngles calls to naoqi_driver instead (`SentCall`):
+`commanded_by_calls` replays every node's calls with the package's model of setAngles
+(`cssr_system.pepper.simulated_pepper.NaoqiDriver`), from the measured joints, and keeps a joint's
+positions while the last call naming it was the node's; `call_marks` turns other nodes' calls into
+intervals, as `goal_marks` does for goals.
+
 Goals whose joints are not exactly the controller's, or whose times do not increase, are rejected by
 the controller and skipped here. A goal's trajectory is taken to start when it was received (the
 package's node and the demo's gesture player send a zero stamp: "start now").
@@ -23,7 +29,8 @@ from typing import Dict, Iterable, List, NamedTuple, Optional, Sequence, Tuple
 import numpy
 
 from cssr_system.animate_behaviour.recording.recording import Commanded, Mark
-from cssr_system.pepper.joint_table import PARTS
+from cssr_system.pepper.joint_table import JOINTS, PARTS
+from cssr_system.pepper.simulated_pepper import NaoqiDriver, joint_angles_problem
 from cssr_system.pepper.trajectory_interpolation import (JointTrajectorySpline, TrajectoryError, TrajectoryPoint,
                                                          sample_trajectory)
 
@@ -55,6 +62,20 @@ class GoalResult(NamedTuple):
     part: str
     goal_id: str
     state: str  # actionlib's terminal state: SUCCEEDED, PREEMPTED, ABORTED, REJECTED, ...
+
+
+class SentCall(NamedTuple):
+    """A setAngles call as naoqi_driver received it (naoqi_bridge_msgs/JointAnglesWithSpeed)."""
+
+    time: float
+    caller: str
+    joint_names: Tuple[str, ...]
+    joint_angles: Tuple[float, ...]
+    speed: float
+    relative: int = 0
+
+
+CALL_GAP = 1.0  # s: another node's calls this close together make one mark
 
 
 class Piece(NamedTuple):
@@ -177,4 +198,55 @@ def goal_marks(goals: Iterable[SentGoal], results: Iterable[GoalResult], exclude
         state = result.state if result is not None else "no result"
         finish = result.time if result is not None else max(end, goal.time)
         marks.append(Mark(goal.time, finish, "%s: %s" % (goal.caller, state), goal.part))
+    return tuple(marks)
+
+
+def commanded_by_calls(source: str, calls: Iterable[SentCall], times: Sequence[float],
+                       measured: Optional[Measured] = None) -> Optional[Commanded]:
+    """The positions `source`'s setAngles calls command at `times` (sorted), for every joint of the parts they
+    name (``PARTS`` order): every valid call replayed in order from the measured joints at the first of them; a
+    joint is NaN before `source` names it and while another node's call is the last to name it. None when
+    `source` sent no call."""
+    calls = sorted((call for call in calls if joint_angles_problem(call.joint_names, call.joint_angles,
+                                                                   call.speed) is None), key=lambda call: call.time)
+    named = {name for call in calls if call.caller == source for name in call.joint_names}
+    parts = [key for key in PARTS if named & set(PARTS[key].joints)]
+    if not parts:
+        return None
+    joint_names = tuple(name for key in parts for name in PARTS[key].joints)
+    column = {name: index for index, name in enumerate(joint_names)}
+    driver = NaoqiDriver(JOINTS, _measured_at(measured, tuple(JOINTS), calls[0].time), calls[0].time)
+    ours = numpy.zeros(len(joint_names), dtype=bool)  # the last call naming the joint was `source`'s
+    times = numpy.asarray(times, dtype=float).reshape(-1)
+    positions = numpy.full((len(times), len(joint_names)), numpy.nan)
+    pending = 0
+    for row, time in enumerate(times):
+        while pending < len(calls) and calls[pending].time <= time:
+            call = calls[pending]
+            driver.set_angles(call.joint_names, call.joint_angles, call.speed, call.time, bool(call.relative))
+            for name in call.joint_names:
+                if name in column:
+                    ours[column[name]] = call.caller == source
+            pending += 1
+        state = dict(zip(JOINTS, driver.state(time)[0]))
+        positions[row] = numpy.where(ours, [state[name] for name in joint_names], numpy.nan)
+    return Commanded(joint_names, times, positions, source)
+
+
+def call_marks(calls: Iterable[SentCall], exclude_caller: str, gap: float = CALL_GAP) -> Tuple[Mark, ...]:
+    """A mark for every burst of setAngles calls of a node other than `exclude_caller` (calls less than `gap` s
+    apart), on the panel of the part of its first joint."""
+    marks: List[Mark] = []
+    latest: Dict[str, int] = {}  # caller -> index of its open mark
+    for call in sorted(calls, key=lambda call: call.time):
+        if call.caller == exclude_caller:
+            continue
+        index = latest.get(call.caller)
+        if index is not None and call.time - marks[index].end <= gap:
+            marks[index] = marks[index]._replace(end=call.time)
+            continue
+        part = next((key for key, part in PARTS.items() if call.joint_names and call.joint_names[0] in part.joints),
+                    "")
+        latest[call.caller] = len(marks)
+        marks.append(Mark(call.time, call.time, "%s: joint_angles" % call.caller, part))
     return tuple(marks)

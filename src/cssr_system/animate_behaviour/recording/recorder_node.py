@@ -3,15 +3,16 @@
 rosrun cssr_system animateBehaviourRecorder.py [_output_dir:=DIR] [_node:=/animateBehaviour]
 
 From its start until it is stopped (Ctrl-C, or roslaunch ending the launch) it records /joint_states,
-the base heading (odometry of the simulated Pepper's platform, ``<namespace>/odom``), and the goals,
+the base heading (odometry of the simulated Pepper's platform, ``<namespace>/odom``), the goals,
 cancels and results on every part's FollowJointTrajectory action (the namespaces of the node's topic
-file). When stopped, it reads the node's log file for the enable and disable instants and the joints'
-bands, and writes into ``~output_dir``:
+file) and the setAngles calls on its JointAngles topic. When stopped, it reads the node's log file
+for the enable and disable instants and the joints' bands, and writes into ``~output_dir``:
 
   animation.json   the recording (format: `cssr_system.animate_behaviour.recording.recording`), with
                    ``commanded`` (what the node commanded: its goals replayed as the controller
-                   executes them, `commanded`) and ``marks`` (every other node's goal on a part, from
-                   its receipt to its result)
+                   executes them, or its setAngles calls as naoqi_driver executes them, `commanded`)
+                   and ``marks`` (every other node's goal on a part, from its receipt to its result,
+                   and its bursts of setAngles calls)
   animation.png    its plot (`plot`)
 
 and prints both paths. Nothing recorded (no /joint_states): nothing written.
@@ -31,23 +32,26 @@ import numpy
 import rospy
 from actionlib_msgs.msg import GoalID
 from control_msgs.msg import FollowJointTrajectoryActionGoal, FollowJointTrajectoryActionResult
+from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.demo import console
 from cssr_system.animate_behaviour.event_log import read_log
-from cssr_system.animate_behaviour.recording.commanded import (CancelRequest, GoalResult, SentGoal, commanded_by,
+from cssr_system.animate_behaviour.recording.commanded import (CancelRequest, GoalResult, Measured, SentCall,
+                                                               SentGoal, call_marks, commanded_by, commanded_by_calls,
                                                                controller_pieces, goal_marks)
 from cssr_system.animate_behaviour.recording.plot import plot_recording
 from cssr_system.animate_behaviour.recording.recording import (PLOT_FILE_NAME, RECORDING_FILE_NAME,
-                                                               SETTING_MARK_WIDTH, BandChange, Mark, Recording,
-                                                               RunSetting, activations_from_log, band_changes_from_log,
-                                                               bands_from_configuration_file,
+                                                               SETTING_MARK_WIDTH, BandChange, Commanded, Mark,
+                                                               Recording, RunSetting, activations_from_log,
+                                                               band_changes_from_log, bands_from_configuration_file,
                                                                bands_from_log, run_setting, setting_changes_from_log,
                                                                unwrap_heading, write_recording, yaw_from_quaternion)
 from cssr_system.animate_behaviour.node.goals import goal_state_name
 from cssr_system.animate_behaviour.rospy_compat import caller_of
+from cssr_system.animate_behaviour.topics import joint_angles_topic
 from cssr_system.pepper.joint_table import PARTS, WHEEL_JOINTS
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
 from cssr_system.pepper.trajectory_interpolation import TrajectoryPoint
@@ -83,6 +87,7 @@ class RunRecorder:
         self.goals = []  # type: List[SentGoal]
         self.cancels = []  # type: List[CancelRequest]
         self.results = []  # type: List[GoalResult]
+        self.calls = []  # type: List[SentCall]
 
     def _now(self) -> float:
         return time.time() - self.start_epoch
@@ -132,6 +137,12 @@ class RunRecorder:
             self.results.append(GoalResult(self._now(), part, status.goal_id.id,
                                            goal_state_name(status.status)))
 
+    def on_joint_angles(self, message: JointAnglesWithSpeed) -> None:
+        call = SentCall(self._now(), caller_of(message), tuple(message.joint_names), tuple(message.joint_angles),
+                        message.speed, message.relative)
+        with self._lock:
+            self.calls.append(call)
+
     def has_joint_states(self) -> bool:
         with self._lock:
             return bool(self.rows)
@@ -150,6 +161,7 @@ class RunRecorder:
             heading_times = heading_times[heading_order]
             headings = numpy.array(self.headings, dtype=float)[heading_order]
             goals, cancels, results = list(self.goals), list(self.cancels), list(self.results)
+            calls = list(self.calls)
         first = min(times[0] if len(times) else 0.0, heading_times[0] if len(heading_times) else 0.0)
         since = self.start_epoch - LOG_MARGIN
         activations = tuple((epoch - self.start_epoch - first, state)
@@ -161,13 +173,12 @@ class RunRecorder:
                     self.setting.config_file, {"platform": self.setting.platform, "behaviour": self.setting.behaviour})
             except ValueError as error:
                 say("no bands in the plot: %s" % error)
-        pieces = controller_pieces(goals, cancels, (self.joint_names, times, positions))
-        commanded = commanded_by(self.node, pieces, times)
+        commanded = self._commanded(goals, cancels, calls, (self.joint_names, times, positions))
         if commanded is not None:
             commanded = commanded._replace(times=commanded.times - first)
         end = float(times[-1]) if len(times) else 0.0
         marks = tuple(mark._replace(start=mark.start - first, end=mark.end - first)
-                      for mark in goal_marks(goals, results, self.node, end))
+                      for mark in goal_marks(goals, results, self.node, end) + call_marks(calls, self.node))
         origin = self.start_epoch + first
         marks += tuple(Mark(epoch - origin, epoch - origin + SETTING_MARK_WIDTH, text)
                        for epoch, text in setting_changes_from_log(log_entries, since))
@@ -182,6 +193,15 @@ class RunRecorder:
                          activations=activations, bands=bands, heading_bound=heading_bound, info=info,
                          heading_topic=self.heading_topic, commanded=commanded, marks=marks,
                          band_changes=band_changes)
+
+    def _commanded(self, goals, cancels, calls, measured: Measured) -> Optional[Commanded]:
+        """What the node commanded: its setAngles calls (actuation joint_angles), else its goals as the
+        controllers execute them."""
+        times = measured[1]
+        by_calls = commanded_by_calls(self.node, calls, times, measured)
+        if by_calls is not None:
+            return by_calls
+        return commanded_by(self.node, controller_pieces(goals, cancels, measured), times)
 
     def save(self, output_dir: str) -> int:
         """Write the recording and its plot into `output_dir`; 0 when written, 1 when not."""
@@ -240,7 +260,9 @@ def main() -> int:
         rospy.Subscriber(action + "/cancel", GoalID, recorder.on_cancel, key, queue_size=20)
         rospy.Subscriber(action + "/result", FollowJointTrajectoryActionResult, recorder.on_result, key,
                          queue_size=20)
-    rospy.loginfo("%s: recording /joint_states, %s and the goals on %d actions; output in %s", NODE_NAME,
-                  heading_topic, len(actions), output_dir)
+    # With actuation joint_angles the node's commands are setAngles calls; other nodes' calls are marked either way.
+    rospy.Subscriber(joint_angles_topic(topics), JointAnglesWithSpeed, recorder.on_joint_angles, queue_size=100)
+    rospy.loginfo("%s: recording /joint_states, %s, the goals on %d actions and the calls on %s; output in %s",
+                  NODE_NAME, heading_topic, len(actions), joint_angles_topic(topics), output_dir)
     rospy.spin()  # until Ctrl-C or the end of the launch
     return recorder.save(output_dir)

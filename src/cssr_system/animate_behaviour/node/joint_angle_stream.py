@@ -1,0 +1,351 @@
+"""One part's motion streamed to naoqi_driver's JointAngles topic (actuation ``joint_angles``, README: "Actuation on
+the robot"): the states of node/motion_stream.py, the planners of node/part_stream.py, and the streaming of
+motion/joint_angle_stream.py.
+
+The part plans as a goal stream does: a planned trajectory from where the part is, the next one when it is about to
+end (a continuous style: `continuation_lead` before its end). Instead of sending it as a goal, at every send time (a
+grid of PERIOD on the stream's clock) it publishes the setAngles calls that `joint_angle_stream.tick` makes of it:
+one per joint speed, up to five for an arm. Each part's grid is offset by PERIOD / 5 from the previous part's:
+naoqi_driver queues ten messages of the topic (the simulated Pepper's rospy subscriber keeps ten of one read), and
+the parts' calls all at once, up to fifteen, would lose the first ones. naoqi_driver runs each call at once, so
+the robot moves along the plan with no dead band (unlike pepper_dcm's). A disable stops the stream at once and sends
+one call: every joint to its centre at STOP_SPEED (the part is ``homing`` until the slowest arrives), or, without
+homeOnDisable, to where it is measured now.
+
+The supervisor thread is the only caller. What the stream needs from the outside is injected, so that unit tests
+drive it with a fake topic and a fake clock:
+
+- ``topic``: the shared JointAngles topic (`JointAnglesTopic`: ``name``, ``send(angles, now)``, ``listened()``);
+- ``clock``: seconds, on the clock naoqi_driver's joints move on (0 while a simulated clock does not run yet);
+- ``positions``: the measured positions of a list of joints, or None when unknown;
+- at each enable, a `motion.planners.Planner` of the part's motion style;
+- ``log``: the event log; ``debug`` and ``warn``: console lines.
+"""
+import math
+from typing import Callable, NamedTuple, Optional
+
+import numpy
+import rospy
+from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
+
+from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.contract import NODE_NAME, PURPOSE_ANIMATE, PURPOSE_HOME
+from cssr_system.animate_behaviour.motion import joint_angle_stream as streaming
+from cssr_system.animate_behaviour.motion.planners import Planner
+from cssr_system.animate_behaviour.motion.trajectory_timing import to_points
+from cssr_system.animate_behaviour.motion.waypoints import PartMotion
+from cssr_system.animate_behaviour.node.foreign_motion import COMMAND, DEFAULT_QUIET_TIME
+from cssr_system.animate_behaviour.node.motion_stream import MotionStream, StreamState
+from cssr_system.animate_behaviour.node.part_stream import HOME_MAX_DURATION, TRANSITIONS
+from cssr_system.animate_behaviour.rospy_compat import has_subscriber_other_than, write_at_once
+from cssr_system.pepper.joint_table import PARTS
+from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
+
+IDLE, ANIMATING, YIELDING, WAITING, HOMING = (StreamState.IDLE, StreamState.ANIMATING, StreamState.YIELDING,
+                                              StreamState.WAITING, StreamState.HOMING)
+SUMMARY_PERIOD = 1.0  # s of stream summed up in one angles_sent line
+
+
+def joint_angles_message(angles: streaming.JointAngles, now: float) -> JointAnglesWithSpeed:
+    """The message of one setAngles call (stamped `now`; naoqi_driver reads only the names, angles and speed)."""
+    message = JointAnglesWithSpeed(joint_names=list(angles.joint_names), joint_angles=list(angles.joint_angles),
+                                   speed=angles.speed, relative=angles.relative)
+    message.header.stamp = rospy.Time.from_sec(now) if now > 0.0 else rospy.Time(0)
+    return message
+
+
+class JointAnglesTopic:
+    """The node's one publisher of the JointAngles topic, shared by the part streams."""
+
+    def __init__(self, name: str, own_caller_id: str) -> None:
+        self.name = name
+        self._own = own_caller_id
+        self.publisher = rospy.Publisher(name, JointAnglesWithSpeed, queue_size=10)
+        write_at_once(self.publisher)  # a stop's call is on the wire when publish returns
+
+    def send(self, angles: streaming.JointAngles, now: float) -> None:
+        self.publisher.publish(joint_angles_message(angles, now))
+
+    def listened(self) -> bool:
+        """naoqi_driver (any node but this one, which watches the topic for other nodes' calls) subscribes."""
+        return has_subscriber_other_than(self.publisher, self._own)
+
+
+class LatestTick(NamedTuple):
+    """The latest tick: when it was sent, where the joints were then, where they arrive at the next send time."""
+    at: float
+    origins: numpy.ndarray
+    arrivals: numpy.ndarray
+    next_send: float
+
+
+def send_phase(part: str, period: float = streaming.PERIOD) -> float:
+    """Where `part`'s send times lie in each period: the parts (joint_table.PARTS order) spread evenly over it."""
+    return list(PARTS).index(part) * period / len(PARTS)
+
+
+def next_send_time(now: float, phase: float = 0.0, period: float = streaming.PERIOD) -> float:
+    """The grid time (`phase` plus a multiple of `period` on the clock) after which the joints are to be where the
+    next call sends them: at least half a period after `now`, so that no call asks a joint to cover a distance in a
+    moment."""
+    return phase + math.floor((now - phase + 0.5 * period) / period + 1.0) * period
+
+
+class JointAngleStream(MotionStream):
+    """One part's motion as a stream of setAngles calls. Only the supervisor thread calls its methods."""
+
+    def __init__(self, part: str, action: str, topic, clock: Callable[[], float],
+                 positions: Callable[[tuple], Optional[numpy.ndarray]], log,
+                 debug: Callable[..., None] = rospy.logdebug, warn: Callable[..., None] = rospy.logwarn) -> None:
+        super().__init__(part, topic.name, TRANSITIONS, log, debug)
+        self.action = action  # the topic file's name of the part: the supervisor's key of this stream
+        self.topic = topic
+        self.connected = False
+        self.motion: Optional[PartMotion] = None
+        self._clock = clock
+        self._positions = positions
+        self._warn = warn
+        self._plan: Optional[Planner] = None
+        self._followed: Optional[JointTrajectorySpline] = None  # the planned trajectory the stream follows
+        self._sent: Optional[LatestTick] = None  # None: the stream does not run
+        self._animated = False  # a call of ours moved the part away from its centre since the last return
+        self._homing_until: Optional[float] = None
+        self._goal_number = 0  # numbers the planned trajectories, as a goal stream numbers its goals
+        self._command_count = 0  # numbers other nodes' command-topic trajectories
+        self._summary_since: Optional[float] = None
+        self._summary_messages = 0
+
+    @property
+    def part(self) -> str:
+        return self.name
+
+    @property
+    def joints(self) -> tuple:
+        return PARTS[self.name].joints
+
+    # -- commands from the supervisor ---------------------------------------------------------------
+    def enable(self, motion: PartMotion, plan: Planner, quiet_time: float = DEFAULT_QUIET_TIME) -> None:
+        """Animate `motion` with trajectories from `plan`; a running stream goes on along the new plan."""
+        self.motion = motion
+        self._plan = plan
+        self.foreign.quiet_time = quiet_time
+        if self.state == YIELDING:
+            return
+        if not self.foreign.calm(self._clock()):
+            self._yield(self.foreign.caller, "enabled while another node moves the part")
+        elif self.connected:
+            self._animate("enabled")
+        else:
+            self.transition_to(WAITING, "enabled; naoqi_driver not listening yet")
+
+    def plan_stop(self, home: bool) -> Optional[streaming.JointAngles]:
+        """The call `disable(home)` would send, made now without sending it (None: it sends none): every joint to
+        its centre (`home`), else to where it is."""
+        if not (self.connected and self._animated and self.state in (ANIMATING, WAITING)):
+            return None
+        where = dict(zip(self.joints, self._where_now(self._clock()).tolist()))
+        return streaming.stop_message(where, dict(zip(self.joints, PARTS[self.name].centre)) if home else where)
+
+    def disable(self, home: bool, planned: Optional[streaming.JointAngles] = None) -> None:
+        """Stop the stream at once, then one call (`plan_stop`, or `planned` made by it a moment ago)."""
+        if self.state in (IDLE, HOMING):
+            return
+        if self.state == YIELDING:  # the other node owns the part: send nothing
+            self.yielding_to = ""
+            self.transition_to(IDLE, "disabled while yielding")
+            return
+        now = self._clock()
+        call = planned or self.plan_stop(home)
+        where = self._where_now(now)
+        self._stop_streaming(now)
+        if call is None:
+            self.transition_to(IDLE, "disabled")
+            return
+        self.topic.send(call, now)
+        if not home:
+            self.transition_to(IDLE, "disabled; stopped where the joints are")
+            return
+        duration = streaming.stop_duration(dict(zip(self.joints, where.tolist())), call)
+        self._log_planned(PURPOSE_HOME, [0.0, duration], [where.tolist(), list(PARTS[self.name].centre)])
+        if duration > HOME_MAX_DURATION:
+            self._warn("%s: %s returns to its centre in %.1f s.", NODE_NAME, self.name, duration)
+        self._homing_until = now + duration
+        self.transition_to(HOMING, "disabled; returning to the centre")
+
+    # -- naoqi_driver and the other nodes -------------------------------------------------------------
+    def controller_ready(self) -> bool:
+        """For the controller watcher: naoqi_driver subscribes to the topic."""
+        return self.topic.listened()
+
+    def controller_connected(self) -> None:
+        if self.connected:
+            return
+        self.connected = True
+        self._log.write(contract.CONTROLLER_CONNECTED, part=self.name, action=self.controller)
+        rospy.loginfo("%s: %s listens to %s.", NODE_NAME, self.name, self.controller)
+        if self.state == WAITING:
+            self._animate("naoqi_driver listening")
+
+    def controller_lost(self) -> None:
+        """Nobody listens to the topic any more: the stream pauses and starts again from the measured joints."""
+        if not self.connected:
+            return
+        self.connected = False
+        self._warn("%s: nobody listens to %s any more; %s waits.", NODE_NAME, self.controller, self.name)
+        self._log.write(contract.CONTROLLER_LOST, part=self.name, action=self.controller)
+        self._stop_streaming(self._clock())
+        if self.state in (ANIMATING, WAITING):
+            self.transition_to(WAITING, "naoqi_driver gone")
+        elif self.state == HOMING:
+            self._animated = False
+            self._homing_until = None
+            self.transition_to(IDLE, "naoqi_driver gone while returning to the centre")
+
+    def foreign_motion(self, key: str, caller: str, kind: str, last_point_at: Optional[float]) -> None:
+        """Another node moves the part: a goal or a trajectory on its controller, or a setAngles call."""
+        now = self._clock()
+        self.foreign.started(key, caller, kind, now, last_point_at)
+        if self.state in (ANIMATING, WAITING):
+            self._yield(caller, "%s sent a %s" % (caller, kind))
+        elif self.state == HOMING:  # its motion replaced our return to the centre
+            self._animated = False
+            self._homing_until = None
+            self.log_yield(caller, kind)
+            self.transition_to(IDLE, "%s moves the part instead of our return to the centre" % caller)
+        elif self.state == YIELDING:
+            self.yielding_to = caller
+
+    def foreign_command(self, caller: str, last_point_at: float, kind: str = COMMAND,
+                        key: Optional[str] = None) -> None:
+        """Another node's trajectory on the controller's command topic, or its setAngles call (`kind` JOINT_ANGLES,
+        `key` naming the caller and joints: a later call replaces the earlier one)."""
+        self._command_count += 1
+        self.foreign_motion(key or "command-%d" % self._command_count, caller, kind, last_point_at)
+
+    def foreign_result(self, key: str) -> None:
+        self.foreign.result(key, self._clock())
+
+    def _yield(self, caller: str, why: str) -> None:
+        now = self._clock()
+        self._stop_streaming(now)
+        self._followed = None  # the part resumes from where the other node leaves it
+        self.start_yielding(caller, now, why)
+
+    # -- time --------------------------------------------------------------------------------------
+    def tick(self) -> None:
+        """Whatever is due: the end of a yield or of the return home, the next plan, the calls of a send time."""
+        now = self._clock()
+        if self.state == YIELDING:
+            if self.foreign.calm(now):
+                self._resume(now)
+            return
+        if self.state == HOMING and now >= self._homing_until:
+            self._animated = False
+            self._homing_until = None
+            self.transition_to(IDLE, "at the centre")
+            return
+        if self.state != ANIMATING:
+            return
+        if self._continuation_due(now):
+            self._animate("continuing the motion")
+        if self._sent is None or now >= self._sent.next_send:
+            self._send(now)
+
+    def next_deadline(self) -> Optional[float]:
+        """When `tick` next has something to do, on the stream's clock (None: nothing planned)."""
+        if self.state == ANIMATING:
+            return self._sent.next_send if self._sent is not None else self._clock()
+        if self.state == HOMING:
+            return self._homing_until
+        if self.state == YIELDING:
+            return self.foreign.next_deadline(self._clock())
+        return None
+
+    def _resume(self, now: float) -> None:
+        why = self.stop_yielding(now)
+        if self.connected:
+            self._animate(why)  # from the measured joints: nothing of ours runs
+        else:
+            self.transition_to(WAITING, why + "; naoqi_driver not listening")
+
+    def _continuation_due(self, now: float) -> bool:
+        """The followed plan is about to end: its end, or `continuation_lead` before it for a continuous style."""
+        if self._followed is None or self._plan is None:
+            return False
+        return now >= self._followed.end_time - (self._plan.continuation_lead or 0.0)
+
+    # -- the stream ---------------------------------------------------------------------------------
+    def _animate(self, why: str) -> None:
+        """Follow the next plan, from the state of the followed one, else from the measured joints."""
+        now = self._clock()
+        start_state = self._current_state(now)
+        timed = self._plan(now, *start_state)
+        self._followed = JointTrajectorySpline(*start_state, to_points(timed), start_time=now)
+        self._log_planned(PURPOSE_ANIMATE, timed.times, timed.positions)
+        self._animated = True
+        self._homing_until = None
+        self.transition_to(ANIMATING, why)
+
+    def _current_state(self, now: float):
+        """Positions, velocities and accelerations to plan from: the followed plan's (it holds its last point
+        after its end), else the measured joints (else where the stream sent them, else the centre), at rest."""
+        if self._followed is not None:
+            return tuple(numpy.asarray(values, dtype=float) for values in self._followed.sample(now))
+        zeros = numpy.zeros(len(self.joints))
+        return self._where_now(now), zeros, zeros
+
+    def _where_now(self, now: float) -> numpy.ndarray:
+        """The measured joints, else where the latest call has brought them by `now`, else the centre."""
+        measured = self._positions(self.joints)
+        if measured is not None:
+            return numpy.asarray(measured, dtype=float)
+        if self._sent is not None:
+            share = min(1.0, max(0.0, (now - self._sent.at) / (self._sent.next_send - self._sent.at)))
+            return self._sent.origins + share * (self._sent.arrivals - self._sent.origins)
+        return numpy.array(PARTS[self.name].centre, dtype=float)
+
+    def _send(self, now: float) -> None:
+        """The calls of one send time: the followed plan at the next send time, reached exactly then."""
+        origins = self._sent.arrivals if self._sent is not None else self._where_now(now)
+        following = next_send_time(now, send_phase(self.name))
+        tick = streaming.tick(self.joints, self._followed, now, origins, period=following - now,
+                              look_ahead=following - now)
+        for call in tick.messages:
+            self.topic.send(call, now)
+        self._sent = LatestTick(now, numpy.asarray(origins, dtype=float), tick.arrivals, following)
+        self._count(now, len(tick.messages))
+
+    def _stop_streaming(self, now: float) -> None:
+        self._flush_summary(now)
+        self._sent = None
+        self._followed = None
+
+    # -- the log ------------------------------------------------------------------------------------
+    def _count(self, now: float, messages: int) -> None:
+        """One angles_sent line per SUMMARY_PERIOD of stream, counting the calls sent in it."""
+        # Half a period's slack: the send times' sums of floats fall a hair short of a whole second.
+        if self._summary_since is not None and now - self._summary_since >= SUMMARY_PERIOD - streaming.PERIOD / 2:
+            self._flush_summary(now)
+        if self._summary_since is None:
+            self._summary_since = now
+        self._summary_messages += messages
+
+    def _flush_summary(self, now: float) -> None:
+        if self._summary_since is not None:
+            self._log.write(contract.ANGLES_SENT, part=self.name, topic=self.controller,
+                            messages=self._summary_messages, seconds=round(now - self._summary_since, 3))
+        self._summary_since = None
+        self._summary_messages = 0
+
+    def _log_planned(self, purpose: str, times, positions) -> None:
+        """One goal_sent line per planned trajectory, as a goal stream writes for each goal (the harness and the
+        plot read the bands and positions from it)."""
+        self._goal_number += 1
+        part, bands = PARTS[self.name], self.motion.bounds if self.motion is not None else ()
+        self._debug("%s: %s trajectory %d (%s) streamed to %s: %d points over %.1f s.", NODE_NAME, self.name,
+                    self._goal_number, purpose, self.controller, len(times), times[-1])
+        self._log.write(contract.GOAL_SENT, part=self.name, label=part.label, action=self.controller,
+                        purpose=purpose, goal=self._goal_number, joints=part.joints, centre=part.centre,
+                        lower=[b.lower for b in bands], upper=[b.upper for b in bands],
+                        moving=self.motion.moving if self.motion is not None else (),
+                        times=times, positions=positions)
