@@ -64,9 +64,11 @@ def run_demo(output_dir, interrupt_after=None, **options):
     master_uri = "http://localhost:%d" % free_port()
     environment = dict(os.environ, DEMO_OUTPUT_DIR=str(output_dir), DEMO_MASTER_URI=master_uri,
                        **{"DEMO_" + key: str(value) for key, value in options.items()})
+    # As from a terminal: SIGINT not ignored, even where this test runs in the background of a shell without job
+    # control (which starts it with SIGINT ignored, and a shell cannot trap a signal ignored when it starts).
     demo = subprocess.Popen(["bash", os.path.join(REPO_DIR, "tools", "demo.sh")], cwd=REPO_DIR, env=environment,
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True,
-                            start_new_session=True)
+                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     lines, interrupted_at = [], None
     deadline = time.monotonic() + 240
     try:
