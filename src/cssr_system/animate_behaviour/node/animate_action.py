@@ -19,6 +19,7 @@ from cssr_system.animate_behaviour.rospy_compat import caller_of_goal
 from cssr_system.msg import AnimateAction, AnimateFeedback, AnimateResult
 
 FEEDBACK_PERIOD = 1.0  # s between feedback messages
+STATUS_FREQUENCY = 1.0  # Hz of the action's status between changes
 # The parts start home this long before a goal's duration ends, so that they are at their centres when it does:
 # the shortest return to the centre and its hold.
 HOME_LEAD = HOME_GESTURE_DURATION + SETTLE_TIME
@@ -64,6 +65,9 @@ class AnimateActionServer:
     def __init__(self, configure: Callable[[dict], tuple], post: Callable[[object], None]) -> None:
         self._configure = configure
         self._post = post
+        # The goals' status is published at every change; between changes once a second is enough (actionlib's
+        # default, 5 Hz, would cost the node CPU for nothing).
+        rospy.set_param(rospy.resolve_name(ANIMATE_ACTION_NAME) + "/status_frequency", STATUS_FREQUENCY)
         self._server = actionlib.ActionServer(ANIMATE_ACTION_NAME, AnimateAction, goal_cb=self._on_goal,
                                               cancel_cb=self._on_cancel, auto_start=False)
 

@@ -116,6 +116,12 @@ class RunningGoal:
                                                  start_time=self.start_time or 0.0)
         return self._spline
 
+    def prepare(self) -> None:
+        """Builds the spline and every segment's polynomial ahead, while nothing waits, so that the next goal or a
+        stop that starts from this one only samples it."""
+        if self._timed is not None and self.dated:
+            self.spline.compute_segments()
+
     def release(self) -> None:
         """The goal no longer runs for us (replaced, cancelled, yielded): only its end is still awaited, for the log.
         Its motion and the message's points are let go (actionlib needs the message's goal id only), so that up

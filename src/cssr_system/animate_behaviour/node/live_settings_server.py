@@ -40,13 +40,18 @@ class LiveSettingsServer:
 
     def show(self, config: Configuration) -> None:
         """The settings in force, brought by a service or the action: rqt_reconfigure and the parameters show them."""
-        if self._server is None:
-            return
+        values = setting_values(config)
+        if self._server is None or self._shown(values):
+            return  # nothing new to show: no parameter writes at every enable
         self._showing.on = True
         try:
-            self._server.update_configuration(setting_values(config))
+            self._server.update_configuration(values)
         finally:
             self._showing.on = False
+
+    def _shown(self, values: dict) -> bool:
+        accepted = self._accepted or {}
+        return all(accepted.get(name) == value for name, value in values.items())
 
     def _on_change(self, values: dict, level: int) -> dict:
         if getattr(self._showing, "on", False):

@@ -48,6 +48,9 @@ class MotionStream:
         self._debug("%s: %s: %s -> %s (%s).", NODE_NAME, self.name, self.state.value, new_state.value, why)
         self.state = new_state
 
+    def prepare(self) -> None:
+        """Work for later, done while the supervisor has nothing waiting (none by default)."""
+
     @property
     def active(self) -> bool:
         return self.state != StreamState.IDLE

@@ -367,6 +367,11 @@ class PartStream(MotionStream):
                         moving=self.motion.moving if self.motion is not None else (),
                         times=timed.times, positions=timed.positions)
 
+    def prepare(self) -> None:
+        """Work for later done now, while nothing waits (the supervisor calls it when its queue is empty)."""
+        if self._sent is not None:
+            self._sent.prepare()
+
     def cancel(self) -> None:
         if self._sent is not None and self.connected:
             self._sent.handle.cancel()

@@ -120,6 +120,9 @@ class Supervisor:
             self._publish_status(self.enabled, self.part_streams(), list(self.bases.values()), self.config,
                                  self.settings_by)
             self._update_feed()
+            if self.events.empty():  # nothing waits: what the next goal or a stop starts from, built now
+                for stream in self.part_streams():
+                    stream.prepare()
         except Exception as error:  # the supervisor must survive anything a callback brings
             self._report_error("supervisor", error)
         if isinstance(event, Shutdown):
