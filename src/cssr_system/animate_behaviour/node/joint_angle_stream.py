@@ -34,8 +34,8 @@ from cssr_system.animate_behaviour.motion import joint_angle_stream as streaming
 from cssr_system.animate_behaviour.motion.planners import Planner
 from cssr_system.animate_behaviour.motion.trajectory_timing import to_points
 from cssr_system.animate_behaviour.motion.waypoints import PartMotion
-from cssr_system.animate_behaviour.node.foreign_motion import COMMAND, DEFAULT_QUIET_TIME
-from cssr_system.animate_behaviour.node.motion_stream import MotionStream, StreamState
+from cssr_system.animate_behaviour.node.foreign_motion import DEFAULT_QUIET_TIME
+from cssr_system.animate_behaviour.node.motion_stream import PartMotionStream, StreamState
 from cssr_system.animate_behaviour.node.part_stream import HOME_MAX_DURATION, TRANSITIONS
 from cssr_system.animate_behaviour.rospy_compat import has_subscriber_other_than, write_at_once
 from cssr_system.pepper.joint_table import PARTS
@@ -91,7 +91,7 @@ def next_send_time(now: float, phase: float = 0.0, period: float = streaming.PER
     return phase + math.floor((now - phase + 0.5 * period) / period + 1.0) * period
 
 
-class JointAngleStream(MotionStream):
+class JointAngleStream(PartMotionStream):
     """One part's motion as a stream of setAngles calls. Only the supervisor thread calls its methods."""
 
     def __init__(self, part: str, action: str, topic, clock: Callable[[], float],
@@ -111,7 +111,6 @@ class JointAngleStream(MotionStream):
         self._animated = False  # a call of ours moved the part away from its centre since the last return
         self._homing_until: Optional[float] = None
         self._goal_number = 0  # numbers the planned trajectories, as a goal stream numbers its goals
-        self._command_count = 0  # numbers other nodes' command-topic trajectories
         self._summary_since: Optional[float] = None
         self._summary_messages = 0
 
@@ -201,29 +200,9 @@ class JointAngleStream(MotionStream):
             self._homing_until = None
             self.transition_to(IDLE, "naoqi_driver gone while returning to the centre")
 
-    def foreign_motion(self, key: str, caller: str, kind: str, last_point_at: Optional[float]) -> None:
-        """Another node moves the part: a goal or a trajectory on its controller, or a setAngles call."""
-        now = self._clock()
-        self.foreign.started(key, caller, kind, now, last_point_at)
-        if self.state in (ANIMATING, WAITING):
-            self._yield(caller, "%s sent a %s" % (caller, kind))
-        elif self.state == HOMING:  # its motion replaced our return to the centre
-            self._animated = False
-            self._homing_until = None
-            self.log_yield(caller, kind)
-            self.transition_to(IDLE, "%s moves the part instead of our return to the centre" % caller)
-        elif self.state == YIELDING:
-            self.yielding_to = caller
-
-    def foreign_command(self, caller: str, last_point_at: float, kind: str = COMMAND,
-                        key: Optional[str] = None) -> None:
-        """Another node's trajectory on the controller's command topic, or its setAngles call (`kind` JOINT_ANGLES,
-        `key` naming the caller and joints: a later call replaces the earlier one)."""
-        self._command_count += 1
-        self.foreign_motion(key or "command-%d" % self._command_count, caller, kind, last_point_at)
-
-    def foreign_result(self, key: str) -> None:
-        self.foreign.result(key, self._clock())
+    def _abandon_home(self) -> None:
+        self._animated = False
+        self._homing_until = None
 
     def _yield(self, caller: str, why: str) -> None:
         now = self._clock()

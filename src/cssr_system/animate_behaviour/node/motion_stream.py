@@ -8,11 +8,11 @@ The status topic names them so. Every change goes through `transition_to`, which
 table of transitions and logs ``old -> new`` at debug level.
 """
 import enum
-from typing import Callable, Dict, Set
+from typing import Callable, Dict, Optional, Set
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import NODE_NAME
-from cssr_system.animate_behaviour.node.foreign_motion import ForeignMotionTracker
+from cssr_system.animate_behaviour.node.foreign_motion import COMMAND, ForeignMotionTracker
 
 
 class StreamState(enum.Enum):
@@ -72,3 +72,36 @@ class MotionStream:
         why = "%s done, calm for %.1f s" % (self.yielding_to, self.foreign.quiet_time)
         self.yielding_to = ""
         return why
+
+
+class PartMotionStream(MotionStream):
+    """A part's stream (node/part_stream.py, node/joint_angle_stream.py): what it does when another node moves the
+    part. Subclasses give `_clock`, `_yield(caller, why)` and `_abandon_home()` (our return to the centre is
+    replaced by the other node's motion)."""
+
+    _command_count = 0  # numbers other nodes' command-topic trajectories
+
+    def foreign_motion(self, key: str, caller: str, kind: str, last_point_at: Optional[float]) -> None:
+        """Another node moves the part: a goal or a trajectory on its controller, or a setAngles call
+        (`last_point_at`: when its last point passes)."""
+        now = self._clock()
+        self.foreign.started(key, caller, kind, now, last_point_at)
+        if self.state in (StreamState.ANIMATING, StreamState.WAITING):
+            self._yield(caller, "%s sent a %s" % (caller, kind))
+        elif self.state == StreamState.HOMING:  # its motion replaced our return to the centre
+            self._abandon_home()
+            self.log_yield(caller, kind)
+            self.transition_to(StreamState.IDLE, "%s moves the part instead of our return to the centre" % caller)
+        elif self.state == StreamState.YIELDING:
+            self.yielding_to = caller
+
+    def foreign_command(self, caller: str, last_point_at: float, kind: str = COMMAND,
+                        key: Optional[str] = None) -> None:
+        """Another node's trajectory on the controller's command topic, or (`kind` JOINT_ANGLES) its setAngles call
+        on naoqi_driver's topic, which `key` names so that each call replaces the previous one on the same joints."""
+        self._command_count += 1
+        self.foreign_motion(key or "command-%d" % self._command_count, caller, kind, last_point_at)
+
+    def foreign_result(self, key: str) -> None:
+        """A goal's result on the controller's action (ours are ignored by the tracker)."""
+        self.foreign.result(key, self._clock())

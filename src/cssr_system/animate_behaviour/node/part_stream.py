@@ -30,9 +30,9 @@ from cssr_system.animate_behaviour.motion.planners import HomePlanner, Planner
 from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory
 from cssr_system.animate_behaviour.motion.waypoints import PartMotion
 from cssr_system.animate_behaviour.node.events import GoalDone
-from cssr_system.animate_behaviour.node.foreign_motion import COMMAND, DEFAULT_QUIET_TIME
+from cssr_system.animate_behaviour.node.foreign_motion import DEFAULT_QUIET_TIME
 from cssr_system.animate_behaviour.node.goals import OutgoingGoal, RunningGoal, goal_message, goal_state_name
-from cssr_system.animate_behaviour.node.motion_stream import MotionStream, StreamState
+from cssr_system.animate_behaviour.node.motion_stream import PartMotionStream, StreamState
 from cssr_system.pepper.joint_table import PARTS
 
 HOME_MAX_DURATION = 2.0  # s; longer returns are reported (the speed cap wins over this bound)
@@ -57,7 +57,7 @@ TRANSITIONS = {
 }
 
 
-class PartStream(MotionStream):
+class PartStream(PartMotionStream):
     """One controller's goal stream. Only the supervisor thread calls its methods."""
 
     def __init__(self, part: str, action: str, client, clock: Callable[[], float],
@@ -75,7 +75,6 @@ class PartStream(MotionStream):
         self._plan: Optional[Planner] = None
         self._animated = False  # a goal of ours moved the part away from its centre since the last return
         self._failures = 0  # failed goals in a row: the back-off
-        self._command_count = 0  # numbers other nodes' command-topic trajectories
         self._goal_number = 0
         self._sent: Optional[RunningGoal] = None
         # Goals that have not reported their end, replaced and cancelled ones too: holding their handles keeps
@@ -203,35 +202,14 @@ class PartStream(MotionStream):
             self._animated = False
             self.transition_to(IDLE, "controller gone while returning to the centre")
 
-    def foreign_motion(self, key: str, caller: str, kind: str, last_point_at: float) -> None:
-        """Another node sent this controller a goal or a trajectory (`last_point_at`: when its last point passes)."""
-        now = self._clock()
-        self.foreign.started(key, caller, kind, now, last_point_at)
-        if self.state in (ANIMATING, WAITING):
-            self._yield(caller, "%s sent a %s" % (caller, kind))
-        elif self.state == HOMING:  # its motion replaced our return to the centre
-            self._sent = None
-            self._animated = False
-            self.log_yield(caller, kind)
-            self.transition_to(IDLE, "%s moves the part instead of our return to the centre" % caller)
-        elif self.state == YIELDING:
-            self.yielding_to = caller
+    def _abandon_home(self) -> None:
+        self._sent = None
+        self._animated = False
 
     def _yield(self, caller: str, why: str) -> None:
         self._sent = None  # the controller runs the other node's motion now; ours is kept only for its result
         self.retry_at = None
         self.start_yielding(caller, self._clock(), why)
-
-    def foreign_command(self, caller: str, last_point_at: float, kind: str = COMMAND,
-                        key: Optional[str] = None) -> None:
-        """Another node's trajectory on the controller's command topic, or (`kind` JOINT_ANGLES) its setAngles call
-        on naoqi_driver's topic, which `key` names so that each call replaces the previous one on the same joints."""
-        self._command_count += 1
-        self.foreign_motion(key or "command-%d" % self._command_count, caller, kind, last_point_at)
-
-    def foreign_result(self, key: str) -> None:
-        """A goal's result on the controller's action (ours are ignored by the tracker)."""
-        self.foreign.result(key, self._clock())
 
     # -- time --------------------------------------------------------------------------------------
     def tick(self) -> None:
