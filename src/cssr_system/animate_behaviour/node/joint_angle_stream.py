@@ -34,7 +34,6 @@ from cssr_system.animate_behaviour.motion import joint_angle_stream as streaming
 from cssr_system.animate_behaviour.motion.planners import Planner
 from cssr_system.animate_behaviour.motion.trajectory_timing import to_points
 from cssr_system.animate_behaviour.motion.waypoints import PartMotion
-from cssr_system.animate_behaviour.node.foreign_motion import DEFAULT_QUIET_TIME
 from cssr_system.animate_behaviour.node.motion_stream import PartMotionStream, StreamState
 from cssr_system.animate_behaviour.node.part_stream import HOME_MAX_DURATION, TRANSITIONS
 from cssr_system.animate_behaviour.rospy_compat import has_subscriber_other_than, write_at_once
@@ -94,6 +93,8 @@ def next_send_time(now: float, phase: float = 0.0, period: float = streaming.PER
 class JointAngleStream(PartMotionStream):
     """One part's motion as a stream of setAngles calls. Only the supervisor thread calls its methods."""
 
+    not_connected = "naoqi_driver not listening"
+
     def __init__(self, part: str, action: str, topic, clock: Callable[[], float],
                  positions: Callable[[tuple], Optional[numpy.ndarray]], log,
                  debug: Callable[..., None] = rospy.logdebug, warn: Callable[..., None] = rospy.logwarn) -> None:
@@ -123,20 +124,6 @@ class JointAngleStream(PartMotionStream):
         return PARTS[self.name].joints
 
     # -- commands from the supervisor ---------------------------------------------------------------
-    def enable(self, motion: PartMotion, plan: Planner, quiet_time: float = DEFAULT_QUIET_TIME) -> None:
-        """Animate `motion` with trajectories from `plan`; a running stream goes on along the new plan."""
-        self.motion = motion
-        self._plan = plan
-        self.foreign.quiet_time = quiet_time
-        if self.state == YIELDING:
-            return
-        if not self.foreign.calm(self._clock()):
-            self._yield(self.foreign.caller, "enabled while another node moves the part")
-        elif self.connected:
-            self._animate("enabled")
-        else:
-            self.transition_to(WAITING, "enabled; naoqi_driver not listening yet")
-
     def plan_stop(self, home: bool) -> Optional[streaming.JointAngles]:
         """The call `disable(home)` would send, made now without sending it (None: it sends none): every joint to
         its centre (`home`), else to where it is."""
@@ -239,13 +226,6 @@ class JointAngleStream(PartMotionStream):
         if self.state == YIELDING:
             return self.foreign.next_deadline(self._clock())
         return None
-
-    def _resume(self, now: float) -> None:
-        why = self.stop_yielding(now)
-        if self.connected:
-            self._animate(why)  # from the measured joints: nothing of ours runs
-        else:
-            self.transition_to(WAITING, why + "; naoqi_driver not listening")
 
     def _continuation_due(self, now: float) -> bool:
         """The followed plan is about to end: its end, or `continuation_lead` before it for a continuous style."""

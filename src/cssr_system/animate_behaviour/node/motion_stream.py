@@ -12,7 +12,7 @@ from typing import Callable, Dict, Optional, Set
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import NODE_NAME
-from cssr_system.animate_behaviour.node.foreign_motion import COMMAND, ForeignMotionTracker
+from cssr_system.animate_behaviour.node.foreign_motion import COMMAND, DEFAULT_QUIET_TIME, ForeignMotionTracker
 
 
 class StreamState(enum.Enum):
@@ -75,11 +75,36 @@ class MotionStream:
 
 
 class PartMotionStream(MotionStream):
-    """A part's stream (node/part_stream.py, node/joint_angle_stream.py): what it does when another node moves the
-    part. Subclasses give `_clock`, `_yield(caller, why)` and `_abandon_home()` (our return to the centre is
-    replaced by the other node's motion)."""
+    """A part's stream (node/part_stream.py, node/joint_angle_stream.py): how it starts, and what it does when another
+    node moves the part. Subclasses give `_clock`, `connected`, `_animate(why)` (send the next motion from where the
+    part is), `_yield(caller, why)` and `_abandon_home()` (our return to the centre is replaced by the other node's
+    motion), and say in `not_connected` what the part waits for."""
 
     _command_count = 0  # numbers other nodes' command-topic trajectories
+    not_connected = "controller not connected"
+
+    def enable(self, motion, plan, quiet_time: float = DEFAULT_QUIET_TIME) -> None:
+        """Animate `motion` (a motion.waypoints.PartMotion) with the motion from `plan` (a motion.planners.Planner);
+        what runs goes on along the new plan."""
+        self.motion = motion
+        self._plan = plan
+        self.foreign.quiet_time = quiet_time
+        if self.state == StreamState.YIELDING:
+            return
+        if not self.foreign.calm(self._clock()):
+            self._yield(self.foreign.caller, "enabled while another node moves the part")
+        elif self.connected:
+            self._animate("enabled")
+        else:
+            self.transition_to(StreamState.WAITING, "enabled; %s yet" % self.not_connected)
+
+    def _resume(self, now: float) -> None:
+        """The other node is done and calm: animate again, from the measured joints (nothing of ours runs)."""
+        why = self.stop_yielding(now)
+        if self.connected:
+            self._animate(why)
+        else:
+            self.transition_to(StreamState.WAITING, why + "; " + self.not_connected)
 
     def foreign_motion(self, key: str, caller: str, kind: str, last_point_at: Optional[float]) -> None:
         """Another node moves the part: a goal or a trajectory on its controller, or a setAngles call

@@ -92,18 +92,8 @@ class PartStream(PartMotionStream):
     # -- commands from the supervisor ---------------------------------------------------------------
     def enable(self, motion: PartMotion, plan: Planner, quiet_time: float = DEFAULT_QUIET_TIME) -> None:
         """Animate `motion` with goals from `plan`; a running goal is replaced smoothly (the controller splices)."""
-        self.motion = motion
-        self._plan = plan
-        self.foreign.quiet_time = quiet_time
         self.retry_at = None
-        if self.state == YIELDING:
-            return
-        if not self.foreign.calm(self._clock()):
-            self._yield(self.foreign.caller, "enabled while another node moves the part")
-        elif self.connected:
-            self._send_animation("enabled")
-        else:
-            self.transition_to(WAITING, "enabled; controller not connected yet")
+        super().enable(motion, plan, quiet_time)
 
     def _returns_home(self, home: bool) -> bool:
         """A stop of this part sends a return-to-centre goal (else it cancels, or sends nothing)."""
@@ -184,7 +174,7 @@ class PartStream(PartMotionStream):
         self._log.write(contract.CONTROLLER_CONNECTED, part=self.part, action=self.action)
         rospy.loginfo("%s: controller %s connected.", NODE_NAME, self.action)
         if self.state == WAITING and self.retry_at is None:
-            self._send_animation("controller connected")
+            self._animate("controller connected")
 
     def controller_lost(self) -> None:
         """The controller went away (its server no longer answers): our goal is gone with it. The part waits
@@ -222,7 +212,7 @@ class PartStream(PartMotionStream):
                 self._resume(now)
             return
         if self._continuation_due(now):
-            self._send_animation("continuing the motion")
+            self._animate("continuing the motion")
         if self.overdue(now):
             self._warn("%s: no result for the %s goal; sending the next one.", NODE_NAME, self.part)
             self._log.write(contract.ERROR, where=self.part, message="goal result lost")
@@ -230,20 +220,13 @@ class PartStream(PartMotionStream):
         if self.retry_at is not None and now >= self.retry_at:
             self.retry_at = None
             if self.state == WAITING:
-                self._send_animation("retry")
+                self._animate("retry")
 
     def _date_goals(self, now: float) -> None:
         """Goals sent before a simulated clock ran start when it starts: their deadlines count from now."""
         for sent in self._unfinished.values():
             if not sent.dated:
                 sent.start(now)
-
-    def _resume(self, now: float) -> None:
-        why = self.stop_yielding(now)
-        if self.connected:
-            self._send_animation(why)  # from the measured joints: nothing of ours runs
-        else:
-            self.transition_to(WAITING, why + "; controller not connected")
 
     def _continuation_at(self) -> Optional[float]:
         """When a continuous style's goal is replaced by the next, before it ends."""
@@ -279,9 +262,9 @@ class PartStream(PartMotionStream):
             self._animated = False
             self.transition_to(IDLE, why + "; at the centre")
         elif self.state == ANIMATING:
-            self._send_animation(why)
+            self._animate(why)
 
-    def _send_animation(self, why: str) -> None:
+    def _animate(self, why: str) -> None:
         self._dispatch(self._outgoing(PURPOSE_ANIMATE, self._plan))
         self._animated = True
         self.transition_to(ANIMATING, why)
