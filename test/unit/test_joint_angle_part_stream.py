@@ -3,6 +3,7 @@ executed by the model of naoqi_driver (simulated_pepper.NaoqiDriver): no ROS mas
 import numpy
 import pytest
 from conftest import default_configuration
+from fakes import FakeLog
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.motion import joint_angle_stream as streaming
@@ -31,17 +32,6 @@ class FakeTopic:
 
     def listened(self):
         return self.listening
-
-
-class FakeLog:
-    def __init__(self):
-        self.entries = []
-
-    def write(self, event, **fields):
-        self.entries.append((event, fields))
-
-    def events(self, name):
-        return [fields for event, fields in self.entries if event == name]
 
 
 class Rig:

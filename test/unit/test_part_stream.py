@@ -1,9 +1,9 @@
 """Unit tests of the part state machine (node/part_stream.py) with a fake action client and clock: no ROS master."""
 import numpy
 import pytest
-from actionlib.action_client import CommState
 from actionlib_msgs.msg import GoalStatus
 from conftest import default_configuration
+from fakes import FakeClient, FakeLog
 from control_msgs.msg import FollowJointTrajectoryResult
 
 from cssr_system.animate_behaviour import contract
@@ -17,54 +17,6 @@ from cssr_system.animate_behaviour.node.part_stream import LOST_RESULT_GRACE, RE
 from cssr_system.pepper.joint_table import PARTS
 
 ACTION = "/pepper_dcm/RightArm_controller/follow_joint_trajectory"
-
-
-class FakeHandle:
-    def __init__(self, goal, callback):
-        self.goal = goal
-        self.callback = callback
-        self.cancelled = False
-        self.status = GoalStatus.ACTIVE
-        self.result = None
-
-    def cancel(self):
-        self.cancelled = True
-
-    def get_comm_state(self):
-        return CommState.DONE
-
-    def get_goal_status(self):
-        return self.status
-
-    def get_result(self):
-        return self.result
-
-    def finish(self, status, error_code=None, error_string=""):
-        """What actionlib does when the server reports the goal's end (with a result when `error_code` is given)."""
-        self.status = status
-        if error_code is not None:
-            self.result = FollowJointTrajectoryResult(error_code=error_code, error_string=error_string)
-        self.callback(self)
-
-
-class FakeClient:
-    def __init__(self):
-        self.handles = []
-
-    def send_goal(self, goal, transition_cb):
-        self.handles.append(FakeHandle(goal, transition_cb))
-        return self.handles[-1]
-
-
-class FakeLog:
-    def __init__(self):
-        self.entries = []
-
-    def write(self, event, **fields):
-        self.entries.append((event, fields))
-
-    def events(self, name):
-        return [fields for event, fields in self.entries if event == name]
 
 
 class Rig:

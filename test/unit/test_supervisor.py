@@ -3,9 +3,9 @@ a fake log and a fake animate action server: the live settings and the animate a
 import threading
 
 import pytest
-from actionlib.action_client import CommState
 from actionlib_msgs.msg import GoalStatus
 from conftest import default_configuration
+from fakes import FakeClient, FakeLog
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.node.animate_action import (CANCELLED, DISABLED, DURATION_ELAPSED, HOME_LEAD,
@@ -19,43 +19,6 @@ from cssr_system.animate_behaviour.node.supervisor import Supervisor
 TOPICS = {"RArm": "/pepper_dcm/RightArm_controller/follow_joint_trajectory",
           "Leg": "/pepper_dcm/Pelvis_controller/follow_joint_trajectory"}
 CONFIG = default_configuration(random_seed=3, behaviour=frozenset({"body"}))
-
-
-class FakeHandle:
-    def __init__(self, goal, callback):
-        self.goal, self.callback, self.status, self.cancelled = goal, callback, GoalStatus.ACTIVE, False
-
-    def cancel(self):
-        self.cancelled = True
-
-    def get_comm_state(self):
-        return CommState.DONE
-
-    def get_goal_status(self):
-        return self.status
-
-    def get_result(self):
-        return None
-
-
-class FakeClient:
-    def __init__(self):
-        self.handles = []
-
-    def send_goal(self, goal, callback):
-        self.handles.append(FakeHandle(goal, callback))
-        return self.handles[-1]
-
-
-class FakeLog:
-    def __init__(self):
-        self.entries = []
-
-    def write(self, event, **fields):
-        self.entries.append((event, fields))
-
-    def events(self, name):
-        return [fields for event, fields in self.entries if event == name]
 
 
 class FakeActionServer:
