@@ -38,7 +38,7 @@ from cssr_system.msg import AnimateBehaviourStatus  # noqa: E402
 from cssr_system.animate_behaviour.configuration import ALL_BEHAVIOURS, load_configuration  # noqa: E402
 from cssr_system.animate_behaviour.configuration import shipped_configuration_path, topic_file_path  # noqa: E402
 from cssr_system.animate_behaviour.topics import load_topic_map  # noqa: E402
-from cssr_system.animate_behaviour.node.joint_states import REST_DELAY  # noqa: E402
+from cssr_system.animate_behaviour.core.joint_states import REST_DELAY  # noqa: E402
 from cssr_system.pepper.joint_table import PARTS  # noqa: E402
 from cssr_system.srv import setActivation  # noqa: E402
 

@@ -1,48 +1,45 @@
-"""Fakes shared by the unit tests of the streams and the supervisor: an actionlib client and its goal handles, and
-the event log."""
-from actionlib.action_client import CommState
-from actionlib_msgs.msg import GoalStatus
-from control_msgs.msg import FollowJointTrajectoryResult
+"""Fakes shared by the unit tests of the streams and the supervisor: a controller client (core/goals.py) and its goal
+handles, and the event log."""
+from cssr_system.animate_behaviour.node.trajectory_client import goal_message, goal_state_name
 
 
 class FakeHandle:
-    """An actionlib ClientGoalHandle: the goal sent, and its end when `finish` reports it."""
+    """A goal sent (the ROS 1 message, as node/trajectory_client.py builds it), and its end when `finish` reports
+    it."""
 
-    def __init__(self, goal, callback):
+    def __init__(self, goal, done):
         self.goal = goal
-        self.callback = callback
+        self.done = done
         self.cancelled = False
-        self.status = GoalStatus.ACTIVE
-        self.result = None
 
     def cancel(self):
         self.cancelled = True
 
-    def get_comm_state(self):
-        return CommState.DONE
-
-    def get_goal_status(self):
-        return self.status
-
-    def get_result(self):
-        return self.result
+    def release(self):
+        self.goal.trajectory.points = []
 
     def finish(self, status, error_code=None, error_string=""):
-        """What actionlib does when the server reports the goal's end (with a result when `error_code` is given)."""
-        self.status = status
-        if error_code is not None:
-            self.result = FollowJointTrajectoryResult(error_code=error_code, error_string=error_string)
-        self.callback(self)
+        """The controller reports the goal's end: `status` an actionlib_msgs/GoalStatus value, with a result when
+        `error_code` is given."""
+        self.done(goal_state_name(status), error_code, error_string if error_code is not None else "")
 
 
 class FakeClient:
-    """An actionlib ActionClient: every goal sent, as a FakeHandle."""
+    """A controller client: every goal sent, as a FakeHandle; `server_up` is what `ready()` says."""
 
     def __init__(self):
         self.handles = []
+        self.server_up = True
 
-    def send_goal(self, goal, transition_cb):
-        self.handles.append(FakeHandle(goal, transition_cb))
+    def ready(self):
+        return self.server_up
+
+    @staticmethod
+    def goal(joints, timed):
+        return goal_message(joints, timed)
+
+    def send(self, goal, done):
+        self.handles.append(FakeHandle(goal, done))
         return self.handles[-1]
 
 

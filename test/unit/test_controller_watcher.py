@@ -1,4 +1,4 @@
-"""Unit tests of the controller watcher (node/controller_watcher.py): when it notices controllers, with fake
+"""Unit tests of the controller watcher (core/controller_watcher.py): when it notices controllers, with fake
 action clients and no master."""
 import threading
 import time
@@ -6,10 +6,10 @@ from types import SimpleNamespace
 
 import pytest
 
-from cssr_system.animate_behaviour.node import controller_watcher
-from cssr_system.animate_behaviour.node.controller_watcher import ControllerWatcher
+from cssr_system.animate_behaviour.core import controller_watcher
+from cssr_system.animate_behaviour.core.controller_watcher import ControllerWatcher
+from cssr_system.animate_behaviour.core.events import ControllerConnected, ControllerLost
 from cssr_system.animate_behaviour.rospy_compat import server_ready
-from cssr_system.animate_behaviour.node.events import ControllerConnected, ControllerLost
 
 ACTION = "/pepper_dcm/RightArm_controller/follow_joint_trajectory"
 SERVER = "/pepper_dcm"
@@ -42,6 +42,9 @@ class FakeClient:
 class FakeStream:
     def __init__(self):
         self.part, self.action, self.client, self.connected = "RArm", ACTION, FakeClient(), False
+
+    def controller_ready(self):
+        return server_ready(self.client)  # as a goal stream's ROS 1 client answers
 
 
 def make_watcher(stream, posted):

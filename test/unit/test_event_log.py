@@ -13,6 +13,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from cssr_system.animate_behaviour import event_log
+from cssr_system.animate_behaviour.contract import NODE_NAME
 from cssr_system.animate_behaviour.event_log import (LOG_FILE_NAME, EventLog, LogEntry, default_log_path,
                                                      format_log_line, parse_log_line, read_log)
 
@@ -582,11 +583,11 @@ def test_a_broken_reporter_or_clock_never_reaches_the_caller(tmp_path):
     assert "clock down" in reports.at(logging.ERROR)[0]
 
 
-def test_the_default_reporter_is_the_rosout_logger(caplog):
-    with caplog.at_level(logging.INFO, logger="rosout"):
+def test_the_default_reporter_is_the_console_logger(caplog):
+    with caplog.at_level(logging.INFO, logger=NODE_NAME):
         EventLog("/dev/full", fallback=None).write("line")
     (record,) = caplog.records
-    assert record.name == "rosout" and record.levelno == logging.ERROR and "/dev/full" in record.getMessage()
+    assert record.name == NODE_NAME and record.levelno == logging.ERROR and "/dev/full" in record.getMessage()
 
 
 def test_threads_writing_to_a_failing_file_never_raise_and_report_once(tmp_path):

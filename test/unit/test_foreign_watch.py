@@ -5,7 +5,7 @@ from actionlib_msgs.msg import GoalID, GoalStatus, GoalStatusArray
 from geometry_msgs.msg import Twist, Vector3
 from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 
-from cssr_system.animate_behaviour.node.events import ForeignGoal, ForeignJointAngles, ForeignResult, ForeignTwist
+from cssr_system.animate_behaviour.core.events import ForeignGoal, ForeignJointAngles, ForeignResult, ForeignTwist
 from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch
 from cssr_system.animate_behaviour.rospy_compat import caller_of_goal
 from cssr_system.pepper.joint_table import JOINTS, centre_of

@@ -1,4 +1,4 @@
-"""Unit tests of one part's joint_angles stream (node/joint_angle_stream.py) with a fake topic and clock, its calls
+"""Unit tests of one part's joint_angles stream (core/joint_angle_stream.py) with a fake topic and clock, its calls
 executed by the model of naoqi_driver (simulated_pepper.NaoqiDriver): no ROS master."""
 import numpy
 import pytest
@@ -10,9 +10,9 @@ from cssr_system.animate_behaviour.motion import joint_angle_stream as streaming
 from cssr_system.animate_behaviour.motion.breathing import CONTINUATION_LEAD
 from cssr_system.animate_behaviour.motion.styles import MotionStyle
 from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng
-from cssr_system.animate_behaviour.node.foreign_motion import JOINT_ANGLES
-from cssr_system.animate_behaviour.node.joint_angle_stream import JointAngleStream, next_send_time, send_phase
-from cssr_system.animate_behaviour.node.motion_stream import StreamState
+from cssr_system.animate_behaviour.core.foreign_motion import JOINT_ANGLES
+from cssr_system.animate_behaviour.core.joint_angle_stream import JointAngleStream, next_send_time, send_phase
+from cssr_system.animate_behaviour.core.motion_stream import StreamState
 from cssr_system.pepper.joint_table import JOINTS, PARTS, SPEED_FRACTION
 from cssr_system.pepper.simulated_pepper import NaoqiDriver
 

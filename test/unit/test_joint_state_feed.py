@@ -6,7 +6,7 @@ import genpy
 import numpy
 from sensor_msgs.msg import JointState
 
-from cssr_system.animate_behaviour.node.joint_states import (MAX_AGE, REST_DELAY, FeedState, JointStateCache,
+from cssr_system.animate_behaviour.core.joint_states import (MAX_AGE, REST_DELAY, FeedState, JointStateCache,
                                                              JointStateFeed, SubscriptionSwitch)
 
 ARM = ("RShoulderPitch", "RShoulderRoll")

@@ -1,11 +1,11 @@
-"""Unit tests of the measured joints (node/joint_states.py): bad /joint_states are ignored and reported once."""
+"""Unit tests of the measured joints (core/joint_states.py): bad /joint_states are ignored and reported once."""
 import math
 
 import genpy
 import numpy
 from sensor_msgs.msg import JointState
 
-from cssr_system.animate_behaviour.node.joint_states import MAX_AGE, JointStateCache
+from cssr_system.animate_behaviour.core.joint_states import MAX_AGE, JointStateCache
 
 ARM = ("RShoulderPitch", "RShoulderRoll")
 

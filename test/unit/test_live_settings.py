@@ -5,7 +5,7 @@ from conftest import default_configuration
 
 from cssr_system.animate_behaviour.live_settings import (changed_settings, goal_overrides, moving_parts,
                                                          setting_overrides, setting_values)
-from cssr_system.animate_behaviour.node.animate_action import FEEDBACK_PERIOD, HOME_LEAD, LONGEST_HOMING, Session
+from cssr_system.animate_behaviour.core.session import FEEDBACK_PERIOD, HOME_LEAD, LONGEST_HOMING, Session
 
 
 def test_dynamic_reconfigures_names_map_onto_the_configuration_keys_and_back():

@@ -1,4 +1,4 @@
-"""Unit tests of the part state machine (node/part_stream.py) with a fake action client and clock: no ROS master."""
+"""Unit tests of the part state machine (core/part_stream.py) with a fake action client and clock: no ROS master."""
 import numpy
 import pytest
 from actionlib_msgs.msg import GoalStatus
@@ -11,9 +11,9 @@ from cssr_system.animate_behaviour.motion.breathing import CONTINUATION_LEAD
 from cssr_system.animate_behaviour.motion.styles import MotionStyle
 from cssr_system.animate_behaviour.motion.planners import GOAL_TIME_TOLERANCE, SETTLE_TIME, RandomPlanner
 from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng
-from cssr_system.animate_behaviour.node.foreign_motion import RESULT_GRACE
-from cssr_system.animate_behaviour.node.motion_stream import StreamState as PartState
-from cssr_system.animate_behaviour.node.part_stream import LOST_RESULT_GRACE, RETRY_DELAY, TRANSITIONS, PartStream
+from cssr_system.animate_behaviour.core.foreign_motion import RESULT_GRACE
+from cssr_system.animate_behaviour.core.motion_stream import StreamState as PartState
+from cssr_system.animate_behaviour.core.part_stream import LOST_RESULT_GRACE, RETRY_DELAY, TRANSITIONS, PartStream
 from cssr_system.pepper.joint_table import PARTS
 
 ACTION = "/pepper_dcm/RightArm_controller/follow_joint_trajectory"

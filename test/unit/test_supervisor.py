@@ -1,4 +1,4 @@
-"""Unit tests of the supervisor (node/supervisor.py) with real part streams over fake action clients, a fake clock,
+"""Unit tests of the supervisor (core/supervisor.py) with real part streams over fake action clients, a fake clock,
 a fake log and a fake animate action server: the live settings and the animate action's goals. No ROS master."""
 import threading
 
@@ -8,13 +8,12 @@ from conftest import default_configuration
 from fakes import FakeClient, FakeLog
 
 from cssr_system.animate_behaviour import contract
-from cssr_system.animate_behaviour.node.animate_action import (CANCELLED, DISABLED, DURATION_ELAPSED, HOME_LEAD,
-                                                               REPLACED)
-from cssr_system.animate_behaviour.node.events import (AnimateCancel, AnimateGoal, ControllerConnected, Disable,
+from cssr_system.animate_behaviour.core.session import CANCELLED, DISABLED, DURATION_ELAPSED, HOME_LEAD, REPLACED
+from cssr_system.animate_behaviour.core.events import (AnimateCancel, AnimateGoal, ControllerConnected, Disable,
                                                        Enable, GoalDone, Reconfigure)
-from cssr_system.animate_behaviour.node.joint_states import FeedState
-from cssr_system.animate_behaviour.node.part_stream import PartStream
-from cssr_system.animate_behaviour.node.supervisor import Supervisor
+from cssr_system.animate_behaviour.core.joint_states import FeedState
+from cssr_system.animate_behaviour.core.part_stream import PartStream
+from cssr_system.animate_behaviour.core.supervisor import Supervisor
 
 TOPICS = {"RArm": "/pepper_dcm/RightArm_controller/follow_joint_trajectory",
           "Leg": "/pepper_dcm/Pelvis_controller/follow_joint_trajectory"}
@@ -94,8 +93,7 @@ class Rig:
     def finish_running_goals(self):
         for client in self.clients.values():
             handle = client.handles[-1]
-            handle.status = GoalStatus.SUCCEEDED
-            handle.callback(handle)
+            handle.finish(GoalStatus.SUCCEEDED)
         while not self.supervisor.events.empty():
             self.supervisor.step(0.0)
 
@@ -196,5 +194,5 @@ def test_goal_results_reach_the_streams():
     rig = Rig()
     enable(rig)
     before = rig.goals("RArm")
-    rig.post(GoalDone("RArm", TOPICS["RArm"], before, GoalStatus.SUCCEEDED, 0, ""))
+    rig.post(GoalDone("RArm", TOPICS["RArm"], before, "SUCCEEDED", 0, ""))
     assert rig.goals("RArm") == before + 1

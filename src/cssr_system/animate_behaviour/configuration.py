@@ -62,7 +62,7 @@ PLATFORMS: Tuple[str, ...] = ("robot", "simulator")
 ALL_BEHAVIOURS = "all"
 MOTION_STYLES = ("random", "breathing")  # motion/styles.py builds the goals of each
 # How the joints are driven (README: "Actuation on the robot"): FollowJointTrajectory goals, or the same planned
-# motion streamed to naoqi_driver's JointAngles topic (node/joint_angle_stream.py). Read at start-up.
+# motion streamed to naoqi_driver's JointAngles topic (core/joint_angle_stream.py). Read at start-up.
 ACTUATIONS = ("trajectory", "joint_angles")
 TRAJECTORY_ACTUATION, JOINT_ANGLES_ACTUATION = ACTUATIONS
 # The key holding the topic file of each platform.

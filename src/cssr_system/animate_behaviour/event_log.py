@@ -34,7 +34,7 @@ dropped, counted, and the file is tried again every ``retry_period`` seconds.  E
 reported once, and the return to normal once (with the number of lines lost, also written into the
 file as an ``error`` event); a file or folder removed while the log runs is made again at the next
 line.  Reports go to a ``report(level, text)`` callable (``logging`` levels); the default hands them
-to the ``rosout`` logger, which rospy prints on the console.  A line that cannot be formatted (NaN,
+to the node's console logger (core/console.py).  A line that cannot be formatted (NaN,
 a bad event name) is replaced by an ``error`` event naming the problem.
 
 Readers: ``parse_log_line`` and ``read_log``.
@@ -55,6 +55,7 @@ from typing import Any, Callable, Dict, List, NamedTuple, Optional
 import numpy
 
 from cssr_system.animate_behaviour.contract import ERROR, NODE_NAME
+from cssr_system.animate_behaviour.core.console import console
 
 LOG_FILE_NAME = "animateBehaviourLogFile.log"
 DEFAULT_MAX_BYTES = 10 * 1024 * 1024
@@ -140,9 +141,9 @@ Reporter = Callable[[int, str], None]
 
 
 def report_to_console(level: int, text: str) -> None:
-    """EventLog's default reporter: the ``rosout`` logger, which rospy prints on the console (and
-    Python prints on stderr when rospy is not set up)."""
-    logging.getLogger("rosout").log(level, text)
+    """EventLog's default reporter: the node's console logger (core/console.py), which the front-end routes to
+    its ROS's console (and Python prints on stderr when none does)."""
+    console.log(level, text)
 
 
 def open_for_append(path: str) -> int:

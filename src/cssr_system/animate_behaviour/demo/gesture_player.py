@@ -25,7 +25,7 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.demo import console
 from cssr_system.animate_behaviour.demo.gesture import (GESTURE_DURATION, GESTURE_PART, NODE_NAME, PLAY_TOPIC,
                                                         gesture_points)
-from cssr_system.animate_behaviour.node.goals import goal_state_name
+from cssr_system.animate_behaviour.node.trajectory_client import goal_state_name
 from cssr_system.animate_behaviour.recording.recording import run_setting
 from cssr_system.pepper.joint_table import PARTS
 

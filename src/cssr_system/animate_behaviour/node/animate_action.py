@@ -3,9 +3,9 @@ the robot alive for a while, or until cancelled, with given settings.
 
 `AnimateActionServer` owns the actionlib server: its callbacks validate a goal's settings (a goal that asks for an
 unusable configuration is rejected with the reason) and post events to the supervisor, which decides everything
-else through `Session`. Only the supervisor thread ends goals and publishes feedback.
+else through `core.session.Session`. Only the supervisor thread ends goals and publishes feedback.
 """
-from typing import Callable, Optional
+from typing import Callable
 
 import actionlib
 import rospy
@@ -13,48 +13,13 @@ import rospy
 from cssr_system.animate_behaviour.configuration import ConfigurationError
 from cssr_system.animate_behaviour.contract import ANIMATE_ACTION_NAME, NODE_NAME
 from cssr_system.animate_behaviour.live_settings import goal_overrides
-from cssr_system.animate_behaviour.motion.planners import HOME_GESTURE_DURATION, SETTLE_TIME
-from cssr_system.animate_behaviour.node.events import AnimateCancel, AnimateGoal
+from cssr_system.animate_behaviour.core.console import console
+from cssr_system.animate_behaviour.core.events import AnimateCancel, AnimateGoal
+from cssr_system.animate_behaviour.node.status import part_statuses
 from cssr_system.animate_behaviour.rospy_compat import caller_of_goal
 from cssr_system.msg import AnimateAction, AnimateFeedback, AnimateResult
 
-FEEDBACK_PERIOD = 1.0  # s between feedback messages
 STATUS_FREQUENCY = 1.0  # Hz of the action's status between changes
-# The parts start home this long before a goal's duration ends, so that they are at their centres when it does:
-# the shortest return to the centre and its hold.
-HOME_LEAD = HOME_GESTURE_DURATION + SETTLE_TIME
-LONGEST_HOMING = 3.0  # s after the duration: the goal succeeds even if a part is not back (a lost result, say)
-DURATION_ELAPSED, CANCELLED, REPLACED, DISABLED = "duration elapsed", "cancelled", "replaced", "disabled"
-
-
-class Session:
-    """One goal of the action while it runs: when it started, how long it lasts, and whether it is ending."""
-
-    def __init__(self, handle, started: float, duration: float) -> None:
-        self.handle = handle
-        self.started = started
-        self.duration = duration  # 0: until cancelled
-        self.homing = False  # the duration is over: the parts return to their centres
-        self.next_feedback = started + FEEDBACK_PERIOD
-
-    def home_due(self, now: float) -> bool:
-        return self.duration > 0.0 and not self.homing and now >= self.started + self.duration - HOME_LEAD
-
-    def succeeds(self, now: float, parts_active: bool) -> bool:
-        """Homing is done (or has taken too long)."""
-        return self.homing and (not parts_active or now >= self.started + self.duration + LONGEST_HOMING)
-
-    def feedback_due(self, now: float) -> bool:
-        if now < self.next_feedback:
-            return False
-        self.next_feedback = now + FEEDBACK_PERIOD
-        return True
-
-    def next_deadline(self) -> Optional[float]:
-        deadlines = [self.next_feedback]
-        if self.duration > 0.0 and not self.homing:
-            deadlines.append(self.started + self.duration - HOME_LEAD)
-        return min(deadlines)
 
 
 class AnimateActionServer:
@@ -82,7 +47,7 @@ class AnimateActionServer:
                 raise ValueError("duration %r: expected a number of seconds >= 0" % goal.duration)
             config_file, config, topics = self._configure(overrides)
         except (ValueError, ConfigurationError) as error:
-            rospy.logwarn("%s: animate goal rejected: %s", NODE_NAME, error)
+            console.warning("%s: animate goal rejected: %s", NODE_NAME, error)
             handle.set_rejected(AnimateResult(reason="rejected: %s" % error), str(error))
             return
         by = caller_of_goal(handle.get_goal_id().id)
@@ -105,5 +70,6 @@ class AnimateActionServer:
         handle.set_canceled(AnimateResult(animated=animated, reason=reason), reason)
 
     @staticmethod
-    def feedback(handle, elapsed: float, parts) -> None:
-        handle.publish_feedback(AnimateFeedback(elapsed=elapsed, parts=parts))
+    def feedback(handle, elapsed: float, rows) -> None:
+        """`rows`: core.motion_stream.part_rows of every stream."""
+        handle.publish_feedback(AnimateFeedback(elapsed=elapsed, parts=part_statuses(rows)))

@@ -1,5 +1,5 @@
 """The animateBehaviour node's ROS side: it makes the event log, the status publisher, the services, the action
-clients, the base publisher and the subscriptions, and hands them to the supervisor (node/supervisor.py), which owns
+clients, the base publisher and the subscriptions, and hands them to the supervisor (core/supervisor.py), which owns
 the motion state.
 """
 import os
@@ -7,28 +7,32 @@ import threading
 from typing import Dict, Optional
 
 import rospy
+from geometry_msgs.msg import Twist
 from sensor_msgs.msg import JointState
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import JOINT_ANGLES_ACTUATION, Configuration, configuration_items
 from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC, NODE_NAME
+from cssr_system.animate_behaviour.core.base_stream import BaseStream
+from cssr_system.animate_behaviour.core.console import console, set_verbose
+from cssr_system.animate_behaviour.core.controller_watcher import ControllerWatcher
+from cssr_system.animate_behaviour.core.events import Shutdown
+from cssr_system.animate_behaviour.core.joint_angle_stream import JointAngleStream
+from cssr_system.animate_behaviour.core.joint_states import JointStateCache, JointStateFeed, SubscriptionSwitch
+from cssr_system.animate_behaviour.core.part_stream import PartStream
+from cssr_system.animate_behaviour.core.supervisor import Supervisor
 from cssr_system.animate_behaviour.event_log import BackgroundLog, EventLog, default_log_path
 from cssr_system.animate_behaviour.motion.styles import MotionStyle
 from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng
 from cssr_system.animate_behaviour.node.animate_action import AnimateActionServer
-from cssr_system.animate_behaviour.node.base_stream import BaseStream
-from cssr_system.animate_behaviour.node.controller_watcher import ControllerWatcher
-from cssr_system.animate_behaviour.node.events import Shutdown
 from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch
-from cssr_system.animate_behaviour.node.goals import action_client, rehearse
-from cssr_system.animate_behaviour.node.joint_states import JointStateCache, JointStateFeed, SubscriptionSwitch
+from cssr_system.animate_behaviour.node.joint_angles_topic import JointAnglesTopic
 from cssr_system.animate_behaviour.node.live_settings_server import LiveSettingsServer
 from cssr_system.animate_behaviour.node.parameters import load_node_configuration
-from cssr_system.animate_behaviour.node.joint_angle_stream import JointAngleStream, JointAnglesTopic
-from cssr_system.animate_behaviour.node.part_stream import PartStream
 from cssr_system.animate_behaviour.node.services import ActivationServices
 from cssr_system.animate_behaviour.node.status import StatusPublisher
-from cssr_system.animate_behaviour.node.supervisor import Supervisor, apply_verbosity
+from cssr_system.animate_behaviour.node.trajectory_client import TrajectoryClient, rehearse
+from cssr_system.animate_behaviour.rospy_compat import write_at_once
 from cssr_system.animate_behaviour.topics import WHEELS_KEY, joint_angles_topic
 from cssr_system.package_files import package_dir, package_version
 from cssr_system.pepper.joint_table import PARTS
@@ -48,7 +52,7 @@ class AnimateBehaviourNode:
         self.clock = rospy.get_time
         self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text))
         self._switch = SubscriptionSwitch(self._subscribe_joint_states, None, self.report_error, JOINT_STATES_TOPIC)
-        self.feed = JointStateFeed(self.joint_states, self._switch, rospy.logdebug)
+        self.feed = JointStateFeed(self.joint_states, self._switch, console.debug)
         self.status = StatusPublisher()
         post = self._post  # the supervisor's queue, for the servers made before it
         self.live_settings = LiveSettingsServer(load_node_configuration, post)
@@ -73,7 +77,7 @@ class AnimateBehaviourNode:
                 self.supervisor.stream_for(key, name)
             elif key == WHEELS_KEY:
                 self.supervisor.base_for(name)
-        apply_verbosity(config)
+        set_verbose(config.verbose_mode)
         for key, value in configuration_items(config).items():
             rospy.loginfo("%s: %-18s %s", NODE_NAME, key, value)
         self._switch(True)
@@ -107,12 +111,19 @@ class AnimateBehaviourNode:
         if self.joint_angles is not None:
             return JointAngleStream(part, action, self.joint_angles, self.clock, self.joint_states.positions,
                                     self.log)
-        return PartStream(part, action, action_client(action), self.clock, self.joint_states.positions,
+        return PartStream(part, action, TrajectoryClient(action), self.clock, self.joint_states.positions,
                           self.supervisor.events.put, self.log)
 
     def _make_base(self, topic: str) -> BaseStream:
         self.watch.watch_base(topic)
-        return BaseStream(topic, self.log)
+        publisher = rospy.Publisher(topic, Twist, queue_size=10)
+        write_at_once(publisher)  # the zero Twist of a stop is on the wire when publish returns
+
+        def turn(angular_z: float) -> None:
+            twist = Twist()
+            twist.angular.z = angular_z
+            publisher.publish(twist)
+        return BaseStream(topic, turn, self.log)
 
     def _subscribe_joint_states(self) -> rospy.Subscriber:
         return rospy.Subscriber(JOINT_STATES_TOPIC, JointState, self.joint_states.update, queue_size=JOINT_STATES_QUEUE)

@@ -21,7 +21,7 @@ from trajectory_msgs.msg import JointTrajectory
 
 from cssr_system.animate_behaviour.motion.joint_angle_stream import set_angles_duration
 from cssr_system.animate_behaviour.rospy_compat import caller_of, caller_of_goal
-from cssr_system.animate_behaviour.node.events import (ForeignCommand, ForeignGoal, ForeignJointAngles,
+from cssr_system.animate_behaviour.core.events import (ForeignCommand, ForeignGoal, ForeignJointAngles,
                                                        ForeignResult, ForeignTwist)
 from cssr_system.pepper.joint_table import PARTS, centre_of, command_topic
 

@@ -13,7 +13,7 @@ from dynamic_reconfigure.server import Server
 from cssr_system.animate_behaviour.configuration import Configuration, ConfigurationError
 from cssr_system.animate_behaviour.contract import NODE_NAME
 from cssr_system.animate_behaviour.live_settings import setting_overrides, setting_values
-from cssr_system.animate_behaviour.node.events import Reconfigure
+from cssr_system.animate_behaviour.core.events import Reconfigure
 from cssr_system.cfg import AnimateBehaviourConfig
 
 BY = "dynamic_reconfigure"

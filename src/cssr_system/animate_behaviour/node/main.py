@@ -7,6 +7,7 @@ supervisor thread, the one that commands the robot, has ended, the program stops
 thread and exits 1 with one line that says so.
 """
 import gc
+import logging
 import os
 import signal
 import sys
@@ -18,6 +19,7 @@ import rospy
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import ConfigurationError
 from cssr_system.animate_behaviour.contract import NODE_NAME
+from cssr_system.animate_behaviour.core.console import route_console
 from cssr_system.animate_behaviour.node.parameters import (config_file_parameter, load_node_configuration,
                                                            parameter_overrides)
 from cssr_system.animate_behaviour.node.animate_behaviour_node import AnimateBehaviourNode
@@ -72,6 +74,9 @@ def main(argv: Optional[List[str]] = None) -> int:
     argv = rospy.myargv(sys.argv if argv is None else argv)
     # The node handles SIGINT and SIGTERM itself: it stops the robot before rospy shuts down.
     rospy.init_node(NODE_NAME, disable_signals=True)
+    # The node's console lines (core/console.py) go to rospy's console and /rosout. Their own level (verboseMode)
+    # decides what is shown: handed to rospy's handlers directly, not through its logger's level.
+    route_console(logging.getLogger("rosout").handle)
     try:
         node = AnimateBehaviourNode()
     except Exception as error:  # nothing moves yet: say why, once, and exit

@@ -8,16 +8,9 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 
 from cssr_system.animate_behaviour.configuration import Configuration
 from cssr_system.animate_behaviour.contract import DIAGNOSTICS_TOPIC, NODE_NAME, STATUS_TOPIC
+from cssr_system.animate_behaviour.core.motion_stream import part_rows
 from cssr_system.animate_behaviour.live_settings import moving_parts
-from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.msg import AnimateBehaviourStatus, PartStatus
-
-
-def part_rows(part_streams, base_streams) -> tuple:
-    """(part, controller, state, yielding_to) of each part and of the base."""
-    # The controller that executes: a goal stream's action, a joint-angle stream's topic.
-    parts = tuple((stream.part, stream.controller, stream.state.value, stream.yielding_to) for stream in part_streams)
-    return parts + tuple((WHEELS_KEY, base.topic, base.state.value, base.yielding_to) for base in base_streams)
 
 
 def part_statuses(rows) -> List[PartStatus]:

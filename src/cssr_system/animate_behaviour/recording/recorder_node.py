@@ -49,7 +49,7 @@ from cssr_system.animate_behaviour.recording.recording import (PLOT_FILE_NAME, R
                                                                band_changes_from_log, bands_from_configuration_file,
                                                                bands_from_log, run_setting, setting_changes_from_log,
                                                                unwrap_heading, write_recording, yaw_from_quaternion)
-from cssr_system.animate_behaviour.node.goals import goal_state_name
+from cssr_system.animate_behaviour.node.trajectory_client import goal_state_name
 from cssr_system.animate_behaviour.rospy_compat import caller_of
 from cssr_system.animate_behaviour.topics import joint_angles_topic
 from cssr_system.pepper.joint_table import PARTS, WHEEL_JOINTS

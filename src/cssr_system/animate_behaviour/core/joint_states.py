@@ -51,13 +51,18 @@ class JointStateCache:
             self._report(text)
 
     def update(self, message, received_at: Optional[float] = None) -> None:
-        """A /joint_states message (rospy's callback thread) that came at `received_at` (default: now)."""
+        """A ROS 1 /joint_states message (rospy's callback thread) that came at `received_at` (default: now)."""
         try:
             names, positions = list(message.name), list(message.position)
             stamp = message.header.stamp.to_sec()
         except Exception as error:  # a message rospy could decode but that is not a JointState
             self._report_once("unreadable", "/joint_states: unusable message (%s); ignored" % error)
             return
+        self.record(names, positions, stamp, received_at)
+
+    def record(self, names: Sequence[str], positions: Sequence[float], stamp: float,
+               received_at: Optional[float] = None) -> None:
+        """A /joint_states message's joints, positions and stamp (s; 0: "now"), from any ROS."""
         now = self._clock() if received_at is None else received_at
         if len(names) != len(positions):
             self._report_once("length", "/joint_states: %d names but %d positions; such messages are ignored"

@@ -1,4 +1,4 @@
-"""What the part streams (node/part_stream.py) and the base stream (node/base_stream.py) share: their states, one
+"""What the part streams (core/part_stream.py) and the base stream (core/base_stream.py) share: their states, one
 transition helper, and yielding to another node (README: "Status", "Sharing the robot").
 
 States: ``idle`` (nothing of ours runs), ``animating``, ``yielding`` (another node moves it: we send nothing until
@@ -12,7 +12,8 @@ from typing import Callable, Dict, Optional, Set
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import NODE_NAME
-from cssr_system.animate_behaviour.node.foreign_motion import COMMAND, DEFAULT_QUIET_TIME, ForeignMotionTracker
+from cssr_system.animate_behaviour.topics import WHEELS_KEY
+from cssr_system.animate_behaviour.core.foreign_motion import COMMAND, DEFAULT_QUIET_TIME, ForeignMotionTracker
 
 
 class StreamState(enum.Enum):
@@ -75,7 +76,7 @@ class MotionStream:
 
 
 class PartMotionStream(MotionStream):
-    """A part's stream (node/part_stream.py, node/joint_angle_stream.py): how it starts, and what it does when another
+    """A part's stream (core/part_stream.py, core/joint_angle_stream.py): how it starts, and what it does when another
     node moves the part. Subclasses give `_clock`, `connected`, `_animate(why)` (send the next motion from where the
     part is), `_yield(caller, why)` and `_abandon_home()` (our return to the centre is replaced by the other node's
     motion), and say in `not_connected` what the part waits for."""
@@ -130,3 +131,10 @@ class PartMotionStream(MotionStream):
     def foreign_result(self, key: str) -> None:
         """A goal's result on the controller's action (ours are ignored by the tracker)."""
         self.foreign.result(key, self._clock())
+
+
+def part_rows(part_streams, base_streams) -> tuple:
+    """(part, controller, state, yielding_to) of each part and of the base."""
+    # The controller that executes: a goal stream's action, a joint-angle stream's topic.
+    parts = tuple((stream.part, stream.controller, stream.state.value, stream.yielding_to) for stream in part_streams)
+    return parts + tuple((WHEELS_KEY, base.topic, base.state.value, base.yielding_to) for base in base_streams)

@@ -1,18 +1,15 @@
 """The base's rotation commands on the Wheels topic, as a small state machine driven by the supervisor
-(node/motion_stream.py): ``animating`` turns it, ``homing`` turns it back to its heading at enable.
+(core/motion_stream.py): ``animating`` turns it, ``homing`` turns it back to its heading at enable.
 """
 from typing import Callable, Optional
-
-import rospy
-from geometry_msgs.msg import Twist
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import Configuration
 from cssr_system.animate_behaviour.contract import NODE_NAME, PURPOSE_ANIMATE, PURPOSE_HOME
+from cssr_system.animate_behaviour.core.console import console
 from cssr_system.animate_behaviour.motion.base_rotation import BaseRotationPlanner, heading_after_interruption
-from cssr_system.animate_behaviour.node.foreign_motion import TWIST
-from cssr_system.animate_behaviour.node.motion_stream import MotionStream, StreamState
-from cssr_system.animate_behaviour.rospy_compat import write_at_once
+from cssr_system.animate_behaviour.core.foreign_motion import TWIST
+from cssr_system.animate_behaviour.core.motion_stream import MotionStream, StreamState
 from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.pepper.joint_table import VELOCITY, base_busy_time, wheels_command_kind
 
@@ -33,13 +30,16 @@ class BaseStream(MotionStream):
 
     Another node's Twist on the topic pauses our turns until it has been calm for the quiet time
     (README: "Sharing the robot"), and cancels our return: the planner's heading counts our own turns only,
-    so a turn of another node is never undone."""
+    so a turn of another node is never undone.
 
-    def __init__(self, topic: str, log, debug: Callable[..., None] = rospy.logdebug) -> None:
+    `turn(angular_z)`: publishes a Twist with that angular z and nothing else (the front-end's publisher, which has
+    it on the wire when it returns)."""
+
+    def __init__(self, topic: str, turn: Callable[[float], None], log,
+                 debug: Callable[..., None] = console.debug) -> None:
         super().__init__(WHEELS_KEY, topic, TRANSITIONS, log, debug)
         self.kind = wheels_command_kind(topic)
-        self.publisher = rospy.Publisher(topic, Twist, queue_size=10)
-        write_at_once(self.publisher)  # the zero Twist of a stop is on the wire when publish returns
+        self._turn = turn
         self._foreign_count = 0
         self.planner: Optional[BaseRotationPlanner] = None
         self._step = None
@@ -93,8 +93,9 @@ class BaseStream(MotionStream):
         else:
             self.transition_to(IDLE, "disabled")
 
-    def foreign_twist(self, caller: str, twist: Twist, now: float) -> None:
-        """Another node's command on the topic: our turn stops at once (nothing of ours is published)."""
+    def foreign_twist(self, caller: str, twist, now: float) -> None:
+        """Another node's command on the topic (a geometry_msgs/Twist): our turn stops at once (nothing of ours is
+        published)."""
         self._foreign_count += 1
         self.foreign.started("twist-%d" % self._foreign_count, caller, TWIST, now,
                              now + base_busy_time(self.kind, twist.linear.x, twist.linear.y, twist.angular.z))
@@ -180,6 +181,4 @@ class BaseStream(MotionStream):
             self._publish(step.angle)
 
     def _publish(self, angular_z: float) -> None:
-        twist = Twist()
-        twist.angular.z = float(angular_z)
-        self.publisher.publish(twist)
+        self._turn(float(angular_z))

@@ -10,22 +10,13 @@ import threading
 import time
 from typing import Callable, Dict, List, Set
 
-import rospy
-
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import NODE_NAME
-from cssr_system.animate_behaviour.node.events import ControllerConnected, ControllerLost
-from cssr_system.animate_behaviour.rospy_compat import server_ready
+from cssr_system.animate_behaviour.core.console import console
+from cssr_system.animate_behaviour.core.events import ControllerConnected, ControllerLost
 
 WATCH_PERIOD = 0.5  # s between checks of the controllers
 WAIT_REPORT_PERIOD = 10.0  # s between log lines about a controller that is still missing
-
-
-def controller_ready(stream) -> bool:
-    """A part stream's controller is there: its own test (a joint-angle stream: naoqi_driver subscribes to its
-    topic), else actionlib's (a goal stream: its action server answers)."""
-    own_test = getattr(stream, "controller_ready", None)
-    return own_test() if own_test is not None else server_ready(stream.client)
 
 
 class ControllerWatcher:
@@ -48,7 +39,7 @@ class ControllerWatcher:
             self._wake.set()
 
     def run(self) -> None:
-        while not self._stopped.is_set() and not rospy.is_shutdown():
+        while not self._stopped.is_set():
             try:
                 self.check()
             except Exception as error:  # the watcher goes on: a missed check is made again in WATCH_PERIOD
@@ -59,7 +50,7 @@ class ControllerWatcher:
     def check(self) -> None:
         for stream in self._streams():
             action = stream.action
-            ready = controller_ready(stream)
+            ready = stream.controller_ready()
             (self._ready.add if ready else self._ready.discard)(action)
             if ready and not stream.connected:
                 self._post(ControllerConnected(stream.part, action))
@@ -73,7 +64,7 @@ class ControllerWatcher:
                     and time.monotonic() - self._last_report.get(action, 0.0) >= WAIT_REPORT_PERIOD):
                 self._last_report[action] = time.monotonic()
                 controller = getattr(stream, "controller", action)  # a joint-angle stream's topic
-                rospy.logwarn("%s: still waiting for controller %s (%.0f s); %s is skipped "
-                              "until it appears.", NODE_NAME, controller, waited, stream.part)
+                console.warning("%s: still waiting for controller %s (%.0f s); %s is skipped "
+                                "until it appears.", NODE_NAME, controller, waited, stream.part)
                 self._log.write(contract.CONTROLLER_WAITING, part=stream.part, action=controller,
                                 seconds=round(waited, 1))

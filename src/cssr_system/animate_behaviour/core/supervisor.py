@@ -1,17 +1,15 @@
 """The supervisor: the one thread that owns the motion state.
 
-The services, actionlib's callbacks, the controller watcher, the watch on other nodes and the signal handlers only
-post events (node/events.py) to its queue; it applies them to the part streams (node/part_stream.py) and the base
-stream (node/base_stream.py), runs what is due in time, and publishes the status. It does no ROS communication of
-its own: the node (node/animate_behaviour_node.py) injects the streams' factories, the clock and the publishers,
-so unit tests drive it with fakes.
+The services, the action clients' callbacks, the controller watcher, the watch on other nodes and the signal
+handlers only post events (core/events.py) to its queue; it applies them to the part streams (core/part_stream.py,
+core/joint_angle_stream.py) and the base stream (core/base_stream.py), runs what is due in time, and publishes the
+status. It does no ROS communication of its own: the front-end (node/animate_behaviour_node.py on ROS 1,
+ros2/animate_behaviour_node.py on ROS 2) injects the streams' factories, the clock and the publishers, so unit
+tests drive it with fakes.
 """
-import logging
 import queue
 import threading
 from typing import Callable, Dict, List, Optional
-
-import rospy
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import TRAJECTORY_ACTUATION, Configuration, configuration_items
@@ -19,16 +17,16 @@ from cssr_system.animate_behaviour.contract import NODE_NAME
 from cssr_system.animate_behaviour.live_settings import changed_settings
 from cssr_system.animate_behaviour.motion.styles import MotionStyle
 from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng, narrow_bands
-from cssr_system.animate_behaviour.node.animate_action import (CANCELLED, DISABLED, DURATION_ELAPSED, REPLACED,
-                                                               Session)
-from cssr_system.animate_behaviour.node.base_stream import BaseStream
-from cssr_system.animate_behaviour.node.events import (AnimateCancel, AnimateGoal, ControllerConnected, ControllerLost,
+from cssr_system.animate_behaviour.core.base_stream import BaseStream
+from cssr_system.animate_behaviour.core.console import console, set_verbose
+from cssr_system.animate_behaviour.core.events import (AnimateCancel, AnimateGoal, ControllerConnected, ControllerLost,
                                                        Disable, Enable, ForeignCommand, ForeignGoal, ForeignJointAngles,
                                                        ForeignResult, ForeignTwist, GoalDone, Reconfigure, Shutdown)
-from cssr_system.animate_behaviour.node.foreign_motion import GOAL, JOINT_ANGLES
-from cssr_system.animate_behaviour.node.joint_states import FeedState
-from cssr_system.animate_behaviour.node.part_stream import PartStream
-from cssr_system.animate_behaviour.node.status import part_rows, part_statuses
+from cssr_system.animate_behaviour.core.foreign_motion import GOAL, JOINT_ANGLES
+from cssr_system.animate_behaviour.core.joint_states import FeedState
+from cssr_system.animate_behaviour.core.motion_stream import part_rows
+from cssr_system.animate_behaviour.core.part_stream import PartStream
+from cssr_system.animate_behaviour.core.session import CANCELLED, DISABLED, DURATION_ELAPSED, REPLACED, Session
 from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, PARTS
 
@@ -41,9 +39,10 @@ class Supervisor:
     `clock`: the clock the controllers execute goals on; `log`: the event log; `make_part(part, action)` and
     `make_base(topic)`: new streams (with their clients and watches); `publish_status(enabled, parts, bases)`;
     `joint_states`: the measured joints (`complete(joints)`); `feed`: whether /joint_states is listened to;
-    `report_error(where, error)`: an unexpected error, in one line; `action`: ends the animate action's goals and
-    publishes their feedback (node/animate_action.py); `sync_settings(config)`: tells dynamic_reconfigure the
-    live settings a service or the action brought."""
+    `report_error(where, error)`: an unexpected error, in one line; `action`: the front-end's animate action server,
+    which ends the action's goals and publishes their feedback (`accept`, `succeed`, `stop`, `feedback`);
+    `sync_settings(config)`: tells the front-end's live settings (dynamic_reconfigure, ROS 2 parameters) the
+    settings a service or the action brought."""
 
     def __init__(self, clock: Callable[[], float], log, make_part: Callable[[str, str], PartStream],
                  make_base: Callable[[str], BaseStream], publish_status: Callable[..., None], joint_states, feed,
@@ -149,7 +148,7 @@ class Supervisor:
             self._tick_session(now)
 
     def _update_feed(self) -> None:
-        """/joint_states is listened to while the joints may move (node/joint_states.py)."""
+        """/joint_states is listened to while the joints may move (core/joint_states.py)."""
         streams = self.part_streams()
         now = self.clock()
         busy = self._why_joints_may_move(streams, now)
@@ -217,7 +216,7 @@ class Supervisor:
             self._end_session(DURATION_ELAPSED)
         elif session.feedback_due(now):
             self._action.feedback(session.handle, now - session.started,
-                                  part_statuses(part_rows(self.part_streams(), list(self.bases.values()))))
+                                  part_rows(self.part_streams(), list(self.bases.values())))
 
     def _end_session(self, reason: str) -> None:
         """The action's goal in force, if any, ends: SUCCEEDED when its duration elapsed, else PREEMPTED."""
@@ -268,7 +267,7 @@ class Supervisor:
         if self.config is not None:
             for key, old, new in changed_settings(self.config, config):
                 self.log.write(contract.SETTING_CHANGED, key=key, old=old, new=new, by=by)
-                rospy.loginfo("%s: %s %s -> %s (%s).", NODE_NAME, key, old, new, by)
+                console.info("%s: %s %s -> %s (%s).", NODE_NAME, key, old, new, by)
         self.settings_by = by
 
     def _enable(self, config_file: str, config: Configuration, topics: Dict[str, str], by: str) -> None:
@@ -277,7 +276,7 @@ class Supervisor:
             self.rng = make_rng(config.random_seed)
         self._log_settings(config, by)
         self.config = config
-        apply_verbosity(config)
+        set_verbose(config.verbose_mode)
         self._warn_actuation(config)
         self.log.write(contract.CONFIGURATION_LOADED, file=config_file, items=configuration_items(config))
         motions = {motion.part: motion for motion in animated_parts(config, [key for key in topics if key in PARTS])}
@@ -292,7 +291,7 @@ class Supervisor:
         self.enabled = True
         self.log.write(contract.BEHAVIOUR_STARTED, behaviour=sorted(config.behaviour), platform=config.platform,
                        parts=sorted(motions), wheels=wheels, reconfigured=reconfigured)
-        rospy.loginfo("%s: animating %s.", NODE_NAME, ", ".join(sorted(motions) + ([WHEELS_KEY] if wheels else [])))
+        console.info("%s: animating %s.", NODE_NAME, ", ".join(sorted(motions) + ([WHEELS_KEY] if wheels else [])))
         self._warn_narrow_bands(config, list(motions.values()))
 
     def _start_base(self, config: Configuration, topics: Dict[str, str], style: MotionStyle) -> Optional[str]:
@@ -310,8 +309,8 @@ class Supervisor:
     def _warn_actuation(self, config: Configuration) -> None:
         """The streams were made for the actuation of start-up (`actuation`): another one needs a restart."""
         if config.actuation != self.actuation:
-            rospy.logwarn("%s: actuation %s is read at start-up only: this node goes on with %s.", NODE_NAME,
-                          config.actuation, self.actuation)
+            console.warning("%s: actuation %s is read at start-up only: this node goes on with %s.", NODE_NAME,
+                            config.actuation, self.actuation)
 
     def _warn_narrow_bands(self, config: Configuration, motions: list) -> None:
         """Once per configuration, not at every enable: the same lines again and again say nothing new. Only for
@@ -320,7 +319,7 @@ class Supervisor:
         warnings = narrow_bands(motions, DRIVER_JOINT_PRECISION) if dead_band else []
         if warnings != self._band_warnings:
             for line in warnings:
-                rospy.logwarn("%s: %s.", NODE_NAME, line)
+                console.warning("%s: %s.", NODE_NAME, line)
             self._band_warnings = warnings
 
     def _disable(self) -> bool:
@@ -343,7 +342,7 @@ class Supervisor:
     def _report_disabled(self, was_enabled: bool, reason: str) -> None:
         if was_enabled:
             self.log.write(contract.BEHAVIOUR_ENDED, reason=reason, home=self.config.home_on_disable)
-            rospy.loginfo("%s: stopped (%s).", NODE_NAME, reason)
+            console.info("%s: stopped (%s).", NODE_NAME, reason)
 
     def stop_without_thread(self) -> None:
         """The last resort when the supervisor thread has ended: cancel every goal, stop the base."""
@@ -357,7 +356,3 @@ class Supervisor:
                 self.active_base.stop(False, self.clock())
             except Exception as error:
                 self._report_error(WHEELS_KEY, error)
-
-
-def apply_verbosity(config: Configuration) -> None:
-    logging.getLogger("rosout").setLevel(logging.DEBUG if config.verbose_mode else logging.INFO)

@@ -1,4 +1,4 @@
-"""One controller's goal stream: a small state machine that owns its transitions (node/motion_stream.py).
+"""One controller's goal stream: a small state machine that owns its transitions (core/motion_stream.py).
 
 ``idle``: no goal of ours runs; ``animating``: one goal after the other; ``yielding``: another node moves the part
 (README: "Sharing the robot"); ``waiting``: enabled, but waiting for the controller to appear or for a retry;
@@ -7,32 +7,30 @@
 The supervisor thread is the only caller. What the stream needs from the outside is injected, so that unit tests
 drive it with a fake action client and a fake clock:
 
-- ``client``: an actionlib ``ActionClient`` (``send_goal(goal, transition_cb)`` returns a handle with ``cancel()``,
-  ``get_comm_state()``, ``get_goal_status()`` and ``get_result()``);
+- ``client``: the front-end's FollowJointTrajectory client (core/goals.py: ``goal``, ``send``, and ``ready()``: its
+  action server answers);
 - ``clock``: seconds, on the clock the controller executes goals on (0 while a simulated clock does not run yet);
 - ``positions``: the measured positions of a list of joints, or None when unknown;
 - ``post``: puts an event on the supervisor's queue (actionlib calls back from its own threads);
 - at each enable, a `motion.planners.Planner` of the part's motion style;
-- ``log``: the event log; ``debug`` and ``warn``: console lines.
+- ``log``: the event log; ``debug`` and ``warn``: console lines (core/console.py by default).
 """
 from collections import OrderedDict
 from typing import Callable, Optional
 
 import numpy
-import rospy
-from actionlib.action_client import CommState
-from actionlib_msgs.msg import GoalStatus
-from control_msgs.msg import FollowJointTrajectoryResult
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import NODE_NAME, PURPOSE_ANIMATE, PURPOSE_HOME
-from cssr_system.animate_behaviour.motion.planners import HomePlanner, Planner
+from cssr_system.animate_behaviour.core.console import console
+from cssr_system.animate_behaviour.core.goals import (ABORTED, GOAL_TOLERANCE_VIOLATED, SUCCEEDED, OutgoingGoal,
+                                                      RunningGoal)
+from cssr_system.animate_behaviour.motion.planners import HomePlanner, Planner, settled
 from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory
 from cssr_system.animate_behaviour.motion.waypoints import PartMotion
-from cssr_system.animate_behaviour.node.events import GoalDone
-from cssr_system.animate_behaviour.node.foreign_motion import DEFAULT_QUIET_TIME
-from cssr_system.animate_behaviour.node.goals import OutgoingGoal, RunningGoal, goal_message, goal_state_name
-from cssr_system.animate_behaviour.node.motion_stream import PartMotionStream, StreamState
+from cssr_system.animate_behaviour.core.events import GoalDone
+from cssr_system.animate_behaviour.core.foreign_motion import DEFAULT_QUIET_TIME
+from cssr_system.animate_behaviour.core.motion_stream import PartMotionStream, StreamState
 from cssr_system.pepper.joint_table import PARTS
 
 HOME_MAX_DURATION = 2.0  # s; longer returns are reported (the speed cap wins over this bound)
@@ -62,7 +60,7 @@ class PartStream(PartMotionStream):
 
     def __init__(self, part: str, action: str, client, clock: Callable[[], float],
                  positions: Callable[[tuple], Optional[numpy.ndarray]], post: Callable[[object], None], log,
-                 debug: Callable[..., None] = rospy.logdebug, warn: Callable[..., None] = rospy.logwarn) -> None:
+                 debug: Callable[..., None] = console.debug, warn: Callable[..., None] = console.warning) -> None:
         super().__init__(part, action, TRANSITIONS, log, debug)
         self.client = client
         self.connected = False
@@ -129,7 +127,7 @@ class PartStream(PartMotionStream):
         sent = self._unfinished.pop(event.goal_number, None)
         if sent is None:
             return  # reported already
-        state_name = goal_state_name(event.state)
+        state_name = event.state
         reached = self._reached_its_end(sent, event)
         self._log.write(contract.GOAL_FINISHED, part=self.part, action=self.action, purpose=sent.purpose,
                         goal=event.goal_number, state=state_name, error_code=event.error_code,
@@ -145,10 +143,9 @@ class PartStream(PartMotionStream):
     def _reached_its_end(self, sent: RunningGoal, event: GoalDone) -> bool:
         """The goal did what it was sent for: SUCCEEDED, or ABORTED only for its end state (GOAL_TOLERANCE_VIOLATED:
         the controller judged the joints still moving) once it had played out with the joints at its last point."""
-        if event.state == GoalStatus.SUCCEEDED:
+        if event.state == SUCCEEDED:
             return True
-        if (event.state != GoalStatus.ABORTED
-                or event.error_code != FollowJointTrajectoryResult.GOAL_TOLERANCE_VIOLATED
+        if (event.state != ABORTED or event.error_code != GOAL_TOLERANCE_VIOLATED
                 or self._clock() < sent.end_time - END_TIME_SLACK):
             return False
         measured = self.measured_positions()
@@ -167,12 +164,16 @@ class PartStream(PartMotionStream):
         self.retry_at = now + delay
         self.transition_to(WAITING, "goal %d %s; retry in %.0f s" % (number, state_name, delay))
 
+    def controller_ready(self) -> bool:
+        """For the controller watcher: the controller's action server answers."""
+        return self.client.ready()
+
     def controller_connected(self) -> None:
         if self.connected:
             return
         self.connected = True
         self._log.write(contract.CONTROLLER_CONNECTED, part=self.part, action=self.action)
-        rospy.loginfo("%s: controller %s connected.", NODE_NAME, self.action)
+        console.info("%s: controller %s connected.", NODE_NAME, self.action)
         if self.state == WAITING and self.retry_at is None:
             self._animate("controller connected")
 
@@ -292,22 +293,18 @@ class PartStream(PartMotionStream):
         now = self._clock()
         start_state = self.current_state(now)
         timed = plan(now, *start_state)
-        return OutgoingGoal(purpose, now if now > 0.0 else None, start_state, timed,
-                            goal_message(PARTS[self.part].joints, timed))
+        held = settled(timed)
+        return OutgoingGoal(purpose, now if now > 0.0 else None, start_state, timed, held.times[-1],
+                            self.client.goal(PARTS[self.part].joints, held))
 
     def _dispatch(self, outgoing: OutgoingGoal) -> TimedTrajectory:
         self._goal_number += 1
         number = self._goal_number
 
-        def transition(handle, part=self.part, action=self.action):
-            if handle.get_comm_state() != CommState.DONE:
-                return
-            result = handle.get_result()
-            self._post(GoalDone(part, action, number, handle.get_goal_status(),
-                                None if result is None else result.error_code,
-                                "" if result is None else result.error_string))
+        def done(state: str, error_code: Optional[int], error_string: str, part=self.part, action=self.action):
+            self._post(GoalDone(part, action, number, state, error_code, error_string))
 
-        handle = self.client.send_goal(outgoing.goal, transition)
+        handle = self.client.send(outgoing.goal, done)
         for unfinished in self._unfinished.values():  # none of them runs for us any more
             unfinished.release()
         self._sent = RunningGoal(number, outgoing.purpose, handle, outgoing)

@@ -1,5 +1,5 @@
 """One part's motion streamed to naoqi_driver's JointAngles topic (actuation ``joint_angles``, README: "Actuation on
-the robot"): the states of node/motion_stream.py, the planners of node/part_stream.py, and the streaming of
+the robot"): the states of core/motion_stream.py, the planners of core/part_stream.py, and the streaming of
 motion/joint_angle_stream.py.
 
 The part plans as a goal stream does: a planned trajectory from where the part is, the next one when it is about to
@@ -15,59 +15,33 @@ homeOnDisable, to where it is measured now.
 The supervisor thread is the only caller. What the stream needs from the outside is injected, so that unit tests
 drive it with a fake topic and a fake clock:
 
-- ``topic``: the shared JointAngles topic (`JointAnglesTopic`: ``name``, ``send(angles, now)``, ``listened()``);
+- ``topic``: the front-end's shared JointAngles publisher (node/joint_angles_topic.py on ROS 1,
+  ros2/joint_angles_topic.py on ROS 2: ``name``, ``send(angles, now)``, ``listened()``);
 - ``clock``: seconds, on the clock naoqi_driver's joints move on (0 while a simulated clock does not run yet);
 - ``positions``: the measured positions of a list of joints, or None when unknown;
 - at each enable, a `motion.planners.Planner` of the part's motion style;
-- ``log``: the event log; ``debug`` and ``warn``: console lines.
+- ``log``: the event log; ``debug`` and ``warn``: console lines (core/console.py by default).
 """
 import math
 from typing import Callable, NamedTuple, Optional
 
 import numpy
-import rospy
-from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import NODE_NAME, PURPOSE_ANIMATE, PURPOSE_HOME
+from cssr_system.animate_behaviour.core.console import console
 from cssr_system.animate_behaviour.motion import joint_angle_stream as streaming
 from cssr_system.animate_behaviour.motion.planners import Planner
 from cssr_system.animate_behaviour.motion.trajectory_timing import to_points
 from cssr_system.animate_behaviour.motion.waypoints import PartMotion
-from cssr_system.animate_behaviour.node.motion_stream import PartMotionStream, StreamState
-from cssr_system.animate_behaviour.node.part_stream import HOME_MAX_DURATION, TRANSITIONS
-from cssr_system.animate_behaviour.rospy_compat import has_subscriber_other_than, write_at_once
+from cssr_system.animate_behaviour.core.motion_stream import PartMotionStream, StreamState
+from cssr_system.animate_behaviour.core.part_stream import HOME_MAX_DURATION, TRANSITIONS
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
 
 IDLE, ANIMATING, YIELDING, WAITING, HOMING = (StreamState.IDLE, StreamState.ANIMATING, StreamState.YIELDING,
                                               StreamState.WAITING, StreamState.HOMING)
 SUMMARY_PERIOD = 1.0  # s of stream summed up in one angles_sent line
-
-
-def joint_angles_message(angles: streaming.JointAngles, now: float) -> JointAnglesWithSpeed:
-    """The message of one setAngles call (stamped `now`; naoqi_driver reads only the names, angles and speed)."""
-    message = JointAnglesWithSpeed(joint_names=list(angles.joint_names), joint_angles=list(angles.joint_angles),
-                                   speed=angles.speed, relative=angles.relative)
-    message.header.stamp = rospy.Time.from_sec(now) if now > 0.0 else rospy.Time(0)
-    return message
-
-
-class JointAnglesTopic:
-    """The node's one publisher of the JointAngles topic, shared by the part streams."""
-
-    def __init__(self, name: str, own_caller_id: str) -> None:
-        self.name = name
-        self._own = own_caller_id
-        self.publisher = rospy.Publisher(name, JointAnglesWithSpeed, queue_size=10)
-        write_at_once(self.publisher)  # a stop's call is on the wire when publish returns
-
-    def send(self, angles: streaming.JointAngles, now: float) -> None:
-        self.publisher.publish(joint_angles_message(angles, now))
-
-    def listened(self) -> bool:
-        """naoqi_driver (any node but this one, which watches the topic for other nodes' calls) subscribes."""
-        return has_subscriber_other_than(self.publisher, self._own)
 
 
 class LatestTick(NamedTuple):
@@ -97,7 +71,7 @@ class JointAngleStream(PartMotionStream):
 
     def __init__(self, part: str, action: str, topic, clock: Callable[[], float],
                  positions: Callable[[tuple], Optional[numpy.ndarray]], log,
-                 debug: Callable[..., None] = rospy.logdebug, warn: Callable[..., None] = rospy.logwarn) -> None:
+                 debug: Callable[..., None] = console.debug, warn: Callable[..., None] = console.warning) -> None:
         super().__init__(part, topic.name, TRANSITIONS, log, debug)
         self.action = action  # the topic file's name of the part: the supervisor's key of this stream
         self.topic = topic
@@ -168,7 +142,7 @@ class JointAngleStream(PartMotionStream):
             return
         self.connected = True
         self._log.write(contract.CONTROLLER_CONNECTED, part=self.name, action=self.controller)
-        rospy.loginfo("%s: %s listens to %s.", NODE_NAME, self.name, self.controller)
+        console.info("%s: %s listens to %s.", NODE_NAME, self.name, self.controller)
         if self.state == WAITING:
             self._animate("naoqi_driver listening")
 
