@@ -1,9 +1,9 @@
 """Where the package's files are: the one lookup that every program, tool and test uses.
 
-ROS's package index comes first, so a program run from an install space finds
-``<install>/share/cssr_system`` (its ``config/``, ``data/``, ``launch/`` and ``package.xml``), and one run
-from a development workspace finds the source folder. Where ROS does not know the package (no
-ROS_PACKAGE_PATH, e.g. a plain ``pytest`` run), the source tree around this module is used.
+ROS's package index comes first (ROS 1's rospkg; ROS 2's ament index where ROS_VERSION is 2, as ROS 2's setup
+files set it), so a program run from an install space finds ``<install>/share/cssr_system`` (its ``config/``,
+``data/``, ``launch/`` and ``package.xml``), and one run from a ROS 1 development workspace finds the source folder.
+Where ROS does not know the package (e.g. a plain ``pytest`` run), the source tree around this module is used.
 """
 import functools
 import os
@@ -21,13 +21,21 @@ class PackageNotFound(RuntimeError):
 def package_dir() -> str:
     """The package's folder: the one holding package.xml, config/, data/ and launch/."""
     try:
-        import rospkg  # here, not at the top: the plotting tool works without ROS
-        return rospkg.RosPack().get_path(PACKAGE_NAME)
-    except Exception:  # rospkg missing, or the package not on ROS_PACKAGE_PATH
+        return _indexed_package_dir()
+    except Exception:  # no ROS index, or the package not in it
         if os.path.isfile(os.path.join(_SOURCE_TREE, "package.xml")):
             return _SOURCE_TREE
         raise PackageNotFound("cannot find the package %s: ROS does not know it (source the workspace's "
                               "setup.bash) and %s holds no package.xml" % (PACKAGE_NAME, _SOURCE_TREE))
+
+
+def _indexed_package_dir() -> str:
+    # Imported here, not at the top: the plotting tool works without ROS, and each ROS has only its own index.
+    if os.environ.get("ROS_VERSION") == "2":
+        from ament_index_python.packages import get_package_share_directory
+        return get_package_share_directory(PACKAGE_NAME)
+    import rospkg
+    return rospkg.RosPack().get_path(PACKAGE_NAME)
 
 
 def package_path(*parts: str) -> str:

@@ -12,7 +12,6 @@ from typing import Callable, Dict, Optional, Set
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import NODE_NAME
-from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.animate_behaviour.core.foreign_motion import COMMAND, DEFAULT_QUIET_TIME, ForeignMotionTracker
 
 
@@ -131,10 +130,3 @@ class PartMotionStream(MotionStream):
     def foreign_result(self, key: str) -> None:
         """A goal's result on the controller's action (ours are ignored by the tracker)."""
         self.foreign.result(key, self._clock())
-
-
-def part_rows(part_streams, base_streams) -> tuple:
-    """(part, controller, state, yielding_to) of each part and of the base."""
-    # The controller that executes: a goal stream's action, a joint-angle stream's topic.
-    parts = tuple((stream.part, stream.controller, stream.state.value, stream.yielding_to) for stream in part_streams)
-    return parts + tuple((WHEELS_KEY, base.topic, base.state.value, base.yielding_to) for base in base_streams)

@@ -24,9 +24,9 @@ from cssr_system.animate_behaviour.core.events import (AnimateCancel, AnimateGoa
                                                        ForeignResult, ForeignTwist, GoalDone, Reconfigure, Shutdown)
 from cssr_system.animate_behaviour.core.foreign_motion import GOAL, JOINT_ANGLES
 from cssr_system.animate_behaviour.core.joint_states import FeedState
-from cssr_system.animate_behaviour.core.motion_stream import part_rows
 from cssr_system.animate_behaviour.core.part_stream import PartStream
 from cssr_system.animate_behaviour.core.session import CANCELLED, DISABLED, DURATION_ELAPSED, REPLACED, Session
+from cssr_system.animate_behaviour.core.status import part_rows
 from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, PARTS
 

@@ -71,5 +71,5 @@ class AnimateActionServer:
 
     @staticmethod
     def feedback(handle, elapsed: float, rows) -> None:
-        """`rows`: core.motion_stream.part_rows of every stream."""
+        """`rows`: core.status.part_rows of every stream."""
         handle.publish_feedback(AnimateFeedback(elapsed=elapsed, parts=part_statuses(rows)))

@@ -6,11 +6,9 @@ from typing import Dict, Optional, Tuple
 
 import rospy
 
-from cssr_system.animate_behaviour.configuration import (Configuration, ConfigurationError, load_configuration,
-                                                         shipped_configuration_path, topic_file_path)
+from cssr_system.animate_behaviour.configuration import Configuration, shipped_configuration_path
 from cssr_system.animate_behaviour.contract import NODE_PARAMETERS
-from cssr_system.animate_behaviour.topics import TopicFileError, load_topic_map
-from cssr_system.package_files import data_dir
+from cssr_system.animate_behaviour.core.configure import configure
 
 
 def private_parameters() -> Dict[str, object]:
@@ -40,13 +38,6 @@ def load_node_configuration(settings: Optional[Dict[str, object]] = None) -> Tup
     """(configuration file, configuration, topics of the selected platform), with live `settings` (configuration
     keys) over the private parameters; raises ConfigurationError."""
     parameters = private_parameters()
-    config_file = config_file_parameter(parameters)
-    folder = data_dir()
     overrides = parameter_overrides(parameters)
     overrides.update(settings or {})
-    config = load_configuration(config_file, overrides, data_dir=folder)
-    try:  # validated by load_configuration; read again only if the file changed since
-        topics = load_topic_map(topic_file_path(config, folder)).topics
-    except TopicFileError as error:
-        raise ConfigurationError(error.problems)
-    return config_file, config, dict(topics)
+    return configure(config_file_parameter(parameters), overrides)
