@@ -7,6 +7,8 @@ source "$(dirname "$0")/common.sh"
 cd "$REPO_DIR"
 
 prepare_workspace || exit 1
+log_step "ROS 2 side: venv and packages (tools/ros2/setup.sh)"
+bash tools/ros2/setup.sh || exit 1
 rm -rf "$RESULTS_DIR"
 mkdir -p "$RESULTS_DIR/rostest"
 
@@ -35,7 +37,12 @@ log_step "system tests: the commands and the README (pytest)"
 python3 -m pytest test/system -q -p no:cacheprovider --junitxml="$RESULTS_DIR/system.xml"
 
 expected=(checksums.xml unit.xml unit-python38.xml system.xml check-python38.xml check-catkin-lint.xml check-flake8.xml
-          check-complexity.xml)
+          check-complexity.xml ros2.xml)
+# The ROS 2 tests run beside the rostests (both mostly wait for their nodes), each on a ROS 2 domain of its own.
+log_step "ROS 2 tests (pytest in the ROS 2 environment, beside the rostests; output: $RESULTS_DIR/ros2.out)"
+bash tools/ros2/run.sh python3 -m pytest test/ros2 -q -p no:cacheprovider -W ignore::DeprecationWarning \
+  --junitxml="$RESULTS_DIR/ros2.xml" > "$RESULTS_DIR/ros2.out" 2>&1 &
+ros2_tests=$!
 rostests=(test/*.test)
 # The longest first (about two minutes each; most of a rostest's time is waiting), so the rest fill in beside them.
 longest=(test/animate_behaviour_robot.test test/controller_verdicts_12hz.test test/controller_verdicts_50hz.test)
@@ -51,6 +58,8 @@ if [ -e "${rostests[0]}" ]; then
     expected+=("rostest-test_$(basename "$file" .test).xml")
   done
 fi
+
+wait "$ros2_tests" && echo "  test/ros2: ok" || { echo "  test/ros2: FAILED"; tail -n 40 "$RESULTS_DIR/ros2.out"; }
 
 log_step "summary"
 expect_args=()

@@ -1,0 +1,158 @@
+"""The animateBehaviour node's ROS 2 side (README: "ROS 2"): it makes the event log, the parameters, the status
+publisher, the services, the action clients or the JointAngles publisher, the base publisher and the
+subscriptions, and hands them to the supervisor (core/supervisor.py), which owns the motion state, as the ROS 1
+node (node/animate_behaviour_node.py) does."""
+import os
+import threading
+from typing import Dict, Optional, Set
+
+from geometry_msgs.msg import Twist
+from sensor_msgs.msg import JointState
+
+from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.configuration import JOINT_ANGLES_ACTUATION, Configuration, configuration_items
+from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC, NODE_NAME
+from cssr_system.animate_behaviour.core.activation import Activation
+from cssr_system.animate_behaviour.core.base_stream import BaseStream
+from cssr_system.animate_behaviour.core.console import console, set_verbose
+from cssr_system.animate_behaviour.core.controller_watcher import ControllerWatcher
+from cssr_system.animate_behaviour.core.events import Shutdown
+from cssr_system.animate_behaviour.core.joint_angle_stream import JointAngleStream
+from cssr_system.animate_behaviour.core.joint_states import JointStateCache, JointStateFeed, SubscriptionSwitch
+from cssr_system.animate_behaviour.core.part_stream import PartStream
+from cssr_system.animate_behaviour.core.supervisor import Supervisor
+from cssr_system.animate_behaviour.event_log import BackgroundLog, EventLog, default_log_path
+from cssr_system.animate_behaviour.topics import WHEELS_KEY, joint_angles_topic
+from cssr_system.package_files import package_dir, package_version
+from cssr_system.pepper.joint_table import PARTS
+from cssr_system.ros2.foreign_watch import ForeignCommandWatch, twist_key
+from cssr_system.ros2.joint_angles_topic import JointAnglesTopic
+from cssr_system.ros2.parameters import NodeParameters
+from cssr_system.ros2.services import ActivationServices
+from cssr_system.ros2.status import StatusPublisher
+from cssr_system.ros2.time_conversion import clock_seconds, seconds_of
+from cssr_system.ros2.trajectory_client import TrajectoryClient
+
+HEARTBEAT_PERIOD = 10.0  # s between "running." lines on the console
+JOINT_STATES_QUEUE = 1  # only the latest /joint_states message matters
+BASE_QUEUE = 10
+
+
+class Subscription:
+    """A subscription the joint-state switch can end (`unregister`, as on ROS 1)."""
+
+    def __init__(self, node, subscription) -> None:
+        self._node = node
+        self._subscription = subscription
+
+    def unregister(self) -> None:
+        self._node.destroy_subscription(self._subscription)
+
+
+class AnimateBehaviourNode:
+    """The node on ROS 2: its interfaces (on the rclpy `node`), and the supervisor that drives the streams."""
+
+    def __init__(self, node) -> None:
+        self.node = node
+        self.version = package_version()
+        self.parameters = NodeParameters(node, self._post)
+        log_file = self.parameters.log_file or default_log_path(package_dir(), os.environ.get("ROS_HOME"))
+        self.log = BackgroundLog(EventLog(log_file))
+        # ROS time (simulated with use_sim_time, as ros2_control's controllers): the streams' deadlines.
+        self.clock = lambda: clock_seconds(node)
+        self.own_goals: Set[bytes] = set()  # every goal id this node sends: other clients' goals are the rest
+        self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text))
+        self._switch = SubscriptionSwitch(self._subscribe_joint_states, None, self.report_error, JOINT_STATES_TOPIC)
+        self.feed = JointStateFeed(self.joint_states, self._switch, console.debug)
+        self.status = StatusPublisher(node)
+        self.supervisor = Supervisor(self.clock, self.log, self._make_part, self._make_base, self.status.publish,
+                                     self.joint_states, self.feed, self.report_error)
+        self._watcher = ControllerWatcher(self.supervisor.part_streams, self._post, self.log,
+                                          self.supervisor.stopped, self.report_error)
+        self.watch = ForeignCommandWatch(node, self.own_goals, self._post, self.clock, self.report_error,
+                                         self._watcher.status_seen)
+        self.joint_angles: Optional[JointAnglesTopic] = None
+        self.services: Optional[ActivationServices] = None
+
+    def start(self, config_file: str, config: Configuration, topics: Dict[str, str]) -> None:
+        self.log.write(contract.CONFIGURATION_LOADED, file=config_file, items=configuration_items(config))
+        self._choose_actuation(config, topics)
+        for key, name in topics.items():  # clients and publishers connect while the node is still disabled
+            if key in PARTS:
+                self.supervisor.stream_for(key, name)
+            elif key == WHEELS_KEY:
+                self.supervisor.base_for(name)
+        set_verbose(config.verbose_mode)
+        for key, value in configuration_items(config).items():
+            console.info("%s: %-18s %s", NODE_NAME, key, value)
+        self._switch(True)
+        self._switch.apply()  # subscribed before the first enable, which plans from the measured joints
+        self._switch.thread.start()
+        self.supervisor.config = config
+        self.status.publish(False, self.supervisor.part_streams(), list(self.supervisor.bases.values()), config,
+                            self.supervisor.settings_by)
+        self.supervisor.thread.start()
+        self._watcher.thread.start()
+        activation = Activation(self._post, self.log, self.parameters.load, lambda: self.parameters.config_file)
+        self.services = ActivationServices(self.node, activation, self.log)
+        console.info("%s: services %s and %s ready.", NODE_NAME, contract.SERVICE_NAME,
+                     contract.SET_ENABLED_SERVICE_NAME)
+        self.node.create_timer(HEARTBEAT_PERIOD, lambda: console.info("%s: running.", NODE_NAME))
+
+    def _post(self, event) -> None:
+        self.supervisor.events.put(event)
+
+    def _choose_actuation(self, config: Configuration, topics: Dict[str, str]) -> None:
+        """The actuation of this run: the JointAngles topic is published on with joint_angles, and watched for
+        other nodes' calls either way."""
+        topic = joint_angles_topic(topics)
+        self.supervisor.actuation = config.actuation
+        if config.actuation == JOINT_ANGLES_ACTUATION:
+            self.joint_angles = JointAnglesTopic(self.node, topic, self.watch.own_calls)
+        self.watch.watch_joint_angles(topic, self.joint_states.positions)
+
+    def _make_part(self, part: str, action: str):
+        self.watch.watch_controller(action)
+        if self.joint_angles is not None:
+            return JointAngleStream(part, action, self.joint_angles, self.clock, self.joint_states.positions,
+                                    self.log)
+        return PartStream(part, action, TrajectoryClient(self.node, action, self.own_goals), self.clock,
+                          self.joint_states.positions, self._post, self.log)
+
+    def _make_base(self, topic: str) -> BaseStream:
+        self.watch.watch_base(topic)
+        publisher = self.node.create_publisher(Twist, topic, BASE_QUEUE)
+
+        def turn(angular_z: float) -> None:
+            twist = Twist()
+            twist.angular.z = angular_z
+            self.watch.own_twists.sent(twist_key(twist))
+            publisher.publish(twist)
+        return BaseStream(topic, turn, self.log)
+
+    def _subscribe_joint_states(self) -> Subscription:
+        def update(message: JointState) -> None:
+            self.joint_states.record(list(message.name), list(message.position), seconds_of(message.header.stamp))
+        return Subscription(self.node, self.node.create_subscription(JointState, JOINT_STATES_TOPIC, update,
+                                                                     JOINT_STATES_QUEUE))
+
+    # -- stopping -----------------------------------------------------------------------------------
+    def request_shutdown(self, reason: str) -> None:
+        """Stops the robot as `disabled` does and ends the supervisor (waits at most 1 s)."""
+        if not self.supervisor.thread.is_alive():
+            self.supervisor.stopped.set()
+            return
+        done = threading.Event()
+        self.supervisor.events.put(Shutdown(reason, done))
+        done.wait(1.0)
+
+    # -- problems -----------------------------------------------------------------------------------
+    def report_error(self, where: str, error: Exception) -> None:
+        """An unexpected error in a thread of the node: one line on the console and in the log; the thread goes on."""
+        console.error("%s: %s: %s: %s", NODE_NAME, where, type(error).__name__, error)
+        self.log.write(contract.ERROR, where=where, message="{}: {}".format(type(error).__name__, error))
+
+    def report_problem(self, where: str, text: str) -> None:
+        """Bad input from outside (README: "Faults"): one line on the console and in the log."""
+        console.warning("%s: %s", NODE_NAME, text)
+        self.log.write(contract.ERROR, where=where, message=text)

@@ -1,0 +1,72 @@
+"""The node's ROS 2 parameters (README: "ROS 2"): ``configFile`` and ``logFile`` (read at start-up), and every key of
+the configuration file as a parameter of the same name, whose value overrides the file's.
+
+Each key is declared with the file's value (a launch file's or the command line's value wins), typed as ROS 2
+parameters are: booleans, integers and numbers as such, the other keys as the text the file holds; any type is
+accepted later, and checked as the file's values are. A change is refused, with the configuration's reason, when
+the configuration it makes is invalid; the live settings (intensity, breathsPerMinute, motionStyle, moveArms,
+moveHands, moveLeg, turnBase) apply at once, the other keys at the next ``enabled``."""
+from typing import Callable, Dict, Optional
+
+from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
+
+from cssr_system.animate_behaviour.configuration import (KEYS, ConfigurationError, configuration_items,
+                                                         load_configuration, shipped_configuration_path)
+from cssr_system.animate_behaviour.core.configure import configure
+from cssr_system.animate_behaviour.core.events import Reconfigure
+from cssr_system.animate_behaviour.live_settings import LIVE_KEYS
+from cssr_system.package_files import data_dir
+
+BY = "parameters"
+READ_AT_START = ParameterDescriptor(read_only=True, description="read at start-up")
+
+
+def declared_value(config, key: str):
+    """A key's value as a ROS 2 parameter: booleans, integers and numbers typed, the rest as the file's text."""
+    value = getattr(config, KEYS[key].attribute)
+    if isinstance(value, (bool, int, float)):
+        return value
+    return configuration_items(config)[key]
+
+
+class NodeParameters:
+    """`post`: the supervisor's queue, for live settings changed while the node runs."""
+
+    def __init__(self, node, post: Callable[[object], None]) -> None:
+        self._node = node
+        self._post = post
+        self.config_file = node.declare_parameter("configFile", shipped_configuration_path(),
+                                                  READ_AT_START).value
+        self.log_file: Optional[str] = node.declare_parameter("logFile", "", READ_AT_START).value or None
+        self._declared = False
+
+    def declare_keys(self) -> None:
+        """Every configuration key, with the file's value; raises ConfigurationError when the file is unusable."""
+        file_config = load_configuration(self.config_file, {}, data_dir=data_dir())
+        for key in KEYS:
+            self._node.declare_parameter(key, declared_value(file_config, key),
+                                         ParameterDescriptor(dynamic_typing=True))
+        self._declared = True
+        self._node.add_on_set_parameters_callback(self._on_set)
+
+    def overrides(self, changes: Optional[Dict[str, object]] = None) -> Dict[str, object]:
+        values = {key: self._node.get_parameter(key).value for key in KEYS} if self._declared else {}
+        values.update(changes or {})
+        return values
+
+    def load(self, settings: Optional[Dict[str, object]] = None) -> tuple:
+        """(configuration file, configuration, topics) as the parameters, then `settings`, say; raises
+        ConfigurationError."""
+        return configure(self.config_file, self.overrides(settings))
+
+    def _on_set(self, parameters) -> SetParametersResult:
+        changes = {parameter.name: parameter.value for parameter in parameters if parameter.name in KEYS}
+        if not changes:
+            return SetParametersResult(successful=True)
+        try:
+            config_file, config, topics = self.load(changes)
+        except ConfigurationError as error:
+            return SetParametersResult(successful=False, reason=str(error))
+        if any(key in LIVE_KEYS for key in changes):
+            self._post(Reconfigure(config_file, config, topics, BY))
+        return SetParametersResult(successful=True)

@@ -1,0 +1,548 @@
+"""simulatedPepper on ROS 2: the kinematic Pepper of cssr_system.pepper.simulated_pepper over rclpy.
+
+The same model and behaviour as the ROS 1 node (cssr_system.pepper.simulated_pepper_node, doc/simulated-pepper.md),
+on the interfaces ros2_control's joint_trajectory_controller and naoqi_driver2 serve.
+
+  python3 -m cssr_system.ros2.simulated_pepper_node --ros-args -p platform:=simulator
+  ros2 run cssr_system simulated_pepper --ros-args -p platform:=simulator
+
+Parameters (declared with these defaults; any other is ignored):
+  platform            "robot" (/pepper_dcm, hand controllers, cmd_moveto) or "simulator" (/pepper, no hands, cmd_vel)
+  initial_posture     "rest" (every part at its centre) or "zero"
+  moveto_keep_latest  false: cmd_moveto commands arriving while the base turns or settles are dropped; true: the
+                      latest of them runs when the base is free
+  feedback_rate       Hz of action feedback for active goals (10; 0: none)
+  driver              "ideal", "naoqi_dcm" or "naoqi_driver" (/joint_angles moves the joints; goals are still judged)
+  control_rate        Hz of the controllers' control loop, whose updates judge the goals (50)
+  velocity_report     "measured", "zero" or "commanded": the joint velocity the controllers' hardware reports
+  goal_time           s after a trajectory's end allowed to get inside the goal tolerances (0.0)
+  stopped_velocity_tolerance  every joint's velocity tolerance at a goal's end (0.01; 0: unchecked)
+  An invalid value: one line naming it and what was expected, exit status 1.
+Serves:
+  <ns>/<Name>_controller/follow_joint_trajectory  control_msgs/action/FollowJointTrajectory. As ros2_control's
+                      joint_trajectory_controller (Jazzy and later): a goal the model would refuse (joints, points)
+                      is rejected; an accepted one succeeds or aborts with the model's error code and string; a new
+                      goal or a joint_trajectory message aborts the running goal (INVALID_GOAL, "preempted"); a
+                      cancel stops the joints where they are and the goal ends canceled with an empty result
+  <ns>/<Name>_controller/joint_trajectory  trajectory_msgs/msg/JointTrajectory, obeyed like a goal, no result
+  <ns>/cmd_moveto or <ns>/cmd_vel  geometry_msgs/msg/Twist
+  /joint_angles       naoqi_bridge_msgs/msg/JointAnglesWithSpeed (with driver naoqi_driver)
+Publishes:
+  /joint_states       sensor_msgs/msg/JointState, 50 Hz, every joint and the wheels
+  <ns>/odom           nav_msgs/msg/Odometry, 50 Hz, the base's heading (frame odom, child base_footprint)
+  ~/limit_violations  std_msgs/msg/UInt32, transient local: goal point values beyond a joint limit so far
+  ~/commanded_joint_states  sensor_msgs/msg/JointState, 50 Hz, with a driver other than ideal: what is commanded
+Stamps and the controllers' time follow the node's clock (ROS time: /clock with use_sim_time).
+SIGINT or SIGTERM: goals still running abort, the node ends with status 0.
+"""
+import functools
+import math
+import signal
+import sys
+import threading
+import time
+from typing import Any, Dict, List, NamedTuple, Optional, Sequence, Tuple
+
+import rclpy
+from control_msgs.action import FollowJointTrajectory
+from geometry_msgs.msg import Twist
+from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
+from nav_msgs.msg import Odometry
+from rcl_interfaces.msg import ParameterDescriptor
+from rclpy.action import ActionServer, CancelResponse, GoalResponse
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
+from rclpy.executors import MultiThreadedExecutor
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
+from rclpy.signals import SignalHandlerOptions
+from rclpy.time import Time
+from sensor_msgs.msg import JointState
+from std_msgs.msg import UInt32
+from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
+
+from cssr_system.pepper.joint_table import ACTION_NAME, JOINTS, WHEEL_JOINTS
+from cssr_system.pepper.simulated_pepper import (CONTROL_RATE, DRIVERS, GOAL_TIME, IDEAL, INVALID_GOAL, MEASURED,
+                                                 NAOQI_DRIVER, PLATFORMS, POSTURES, STOPPED_VELOCITY_TOLERANCE,
+                                                 SUCCESSFUL, GoalOutcome, GoalPoint, GoalTolerances, SimulatedPepper,
+                                                 action_namespace, base_topic, check_loop_settings, odometry_topic,
+                                                 yaw_quaternion)
+
+NODE_NAME = "simulatedPepper"
+UPDATE_RATE = 50.0  # Hz: stepping the model (its control loop catches up), /joint_states and odometry
+MAX_VIOLATIONS_LOGGED = 4  # per goal, so one bad goal makes one readable warning
+JOINT_ANGLES_TOPIC = "/joint_angles"  # naoqi_driver2's setAngles topic
+TRAJECTORY_TOPIC_NAME = "joint_trajectory"  # ROS 2 joint_trajectory_controller's topic (ROS 1's is "command")
+# What ros2_controllers' joint_trajectory_controller (Jazzy, Kilted, Rolling) gives a goal that a new goal replaces.
+PREEMPTED_BY_GOAL = "Current goal preempted by new incoming action."
+PREEMPTED_BY_TOPIC = "Current goal preempted by a trajectory on {}."
+SHUT_DOWN = "the simulated Pepper shut down"
+CANCEL_STATE_WAIT = 1.0  # s: the action server marks a goal canceling right after our cancel callback accepts
+
+SUCCEEDED, ABORTED, CANCELED = "succeeded", "aborted", "canceled"
+
+# name, default: every parameter, declared with dynamic typing so a wrong type gets our message, not rclpy's.
+PARAMETERS: Tuple[Tuple[str, Any], ...] = (
+    ("platform", "robot"), ("initial_posture", "rest"), ("moveto_keep_latest", False), ("feedback_rate", 10.0),
+    ("driver", IDEAL), ("control_rate", CONTROL_RATE), ("velocity_report", MEASURED), ("goal_time", GOAL_TIME),
+    ("stopped_velocity_tolerance", STOPPED_VELOCITY_TOLERANCE))
+CHOICES = (("platform", tuple(PLATFORMS)), ("initial_posture", POSTURES), ("driver", DRIVERS))
+LOOP_SETTINGS = ("control_rate", "velocity_report", "goal_time", "stopped_velocity_tolerance")
+
+
+class Settings(NamedTuple):
+    platform: str
+    initial_posture: str
+    moveto_keep_latest: bool
+    feedback_rate: float
+    driver: str
+    control_rate: float
+    velocity_report: str
+    goal_time: float
+    stopped_velocity_tolerance: float
+
+
+def is_number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def check_settings(values: Dict[str, Any]) -> Settings:
+    """The node's settings from its parameter values; ValueError naming the first bad one and what it must be."""
+    for name, choices in CHOICES:
+        if values[name] not in choices:
+            raise ValueError("{} must be one of {} (got {!r})".format(name, ", ".join(choices), values[name]))
+    if not isinstance(values["moveto_keep_latest"], bool):
+        raise ValueError("moveto_keep_latest must be true or false (got {!r})".format(values["moveto_keep_latest"]))
+    if not is_number(values["feedback_rate"]) or values["feedback_rate"] < 0:
+        raise ValueError("feedback_rate must be a finite number >= 0 (got {!r})".format(values["feedback_rate"]))
+    check_loop_settings(**{name: values[name] for name in LOOP_SETTINGS})
+    converted = {name: float(value) if is_number(value) else value for name, value in values.items()}
+    return Settings(**converted)
+
+
+def read_settings(node: Node) -> Settings:
+    """Declare the node's parameters and check their values (ValueError: `check_settings`)."""
+    dynamic = ParameterDescriptor(dynamic_typing=True)
+    values = {name: node.declare_parameter(name, default, dynamic).value for name, default in PARAMETERS}
+    return check_settings(values)
+
+
+def trajectory_topic(platform, key: str) -> str:
+    """`<ns>/<Name>_controller/joint_trajectory`: the controller that serves the action, its ROS 2 topic."""
+    return action_namespace(platform, key)[:-len(ACTION_NAME)] + TRAJECTORY_TOPIC_NAME
+
+
+def seconds(duration) -> float:
+    """A builtin_interfaces Duration (or Time) in seconds."""
+    return duration.sec + duration.nanosec * 1e-9
+
+
+def goal_points(trajectory: JointTrajectory) -> List[GoalPoint]:
+    return [GoalPoint(seconds(point.time_from_start), list(point.positions), list(point.velocities),
+                      list(point.accelerations))
+            for point in trajectory.points]
+
+
+def goal_uuid(goal_handle) -> bytes:
+    return bytes(goal_handle.goal_id.uuid)
+
+
+class AcceptedGoal:
+    """An accepted goal, the model's token for it: its handle, and its verdict once one is reached (the first one
+    stands). The action server's execute callback waits for the verdict, then ends the goal with it."""
+
+    def __init__(self, goal_handle) -> None:
+        self.handle = goal_handle
+        self.uuid = goal_uuid(goal_handle)
+        self.status: Optional[str] = None
+        self.result = FollowJointTrajectory.Result()
+        self._decided = threading.Event()
+        self._lock = threading.Lock()
+
+    def decide(self, status: str, error_code: int = SUCCESSFUL, error_string: str = "") -> None:
+        with self._lock:
+            if self._decided.is_set():
+                return
+            self.status = status
+            self.result = FollowJointTrajectory.Result(error_code=error_code, error_string=error_string)
+            self._decided.set()
+
+    def wait(self) -> Tuple[str, Any]:
+        self._decided.wait()
+        return self.status, self.result
+
+
+class SimulatedPepperNode:
+    """The model served on a node: action servers, topics, and a 50 Hz update of the model and the states."""
+
+    def __init__(self, node: Node, settings: Settings) -> None:
+        self.node = node
+        self.logger = node.get_logger()
+        self._clock = node.get_clock()
+        # The model's clock counts from start-up: small numbers keep the splines' arithmetic exact.
+        self._epoch_ns = self._clock.now().nanoseconds
+        self._lock = threading.Lock()  # guards the model, the goals and _epoch_ns; goal handles are used outside it
+        self.model = SimulatedPepper(settings.platform, settings.initial_posture, self._now(),
+                                     settings.moveto_keep_latest, settings.driver, settings.control_rate,
+                                     settings.velocity_report, settings.goal_time, settings.stopped_velocity_tolerance)
+        self.platform = self.model.platform
+        self._feedback_period = 1.0 / settings.feedback_rate if settings.feedback_rate > 0 else None
+        self._next_feedback = 0.0
+        self._goals: Dict[bytes, AcceptedGoal] = {}  # accepted, not yet ended, by goal id
+        self._canceled_early: set = set()  # ids of goals canceled before the model got them
+        self._closing = False
+        self._reported_violations = -1
+        self._violation_lock = threading.Lock()
+        self._joint_angle_problems: set = set()  # kinds of invalid /joint_angles messages already warned about
+        self._create_publishers()
+        self._publish_violations()
+        # Goals of several controllers, their cancels and the updates run at once: each execute callback waits for
+        # its goal's verdict on a thread of its own; the update timer has its own group so ticks never overlap.
+        actions = ReentrantCallbackGroup()
+        self.servers = {key: self._action_server(key, actions) for key in self.model.controllers}
+        self.subscriptions = [
+            node.create_subscription(JointTrajectory, trajectory_topic(self.platform, key),
+                                     functools.partial(self.on_trajectory, key), 10, callback_group=actions)
+            for key in self.model.controllers]
+        self.subscriptions.append(node.create_subscription(Twist, base_topic(self.platform), self.on_twist, 10,
+                                                           callback_group=actions))
+        if settings.driver == NAOQI_DRIVER:
+            self.subscriptions.append(node.create_subscription(JointAnglesWithSpeed, JOINT_ANGLES_TOPIC,
+                                                               self.on_joint_angles, 10, callback_group=actions))
+        self.timer = node.create_timer(1.0 / UPDATE_RATE, self.on_tick,
+                                       callback_group=MutuallyExclusiveCallbackGroup())
+        self.logger.info("platform {}, namespace {}, controllers {}, base {} ({}); control loop {:g} Hz, velocity "
+                         "report {}, goal time {:g} s, stopped velocity tolerance {:g}, driver {}".format(
+                             self.platform.name, self.platform.namespace,
+                             ", ".join(controller.name for controller in self.model.controllers.values()),
+                             base_topic(self.platform), self.platform.base_kind, settings.control_rate,
+                             settings.velocity_report, settings.goal_time, settings.stopped_velocity_tolerance,
+                             settings.driver))
+
+    def _create_publishers(self) -> None:
+        node = self.node
+        self.joint_state_publisher = node.create_publisher(JointState, "/joint_states", 10)
+        # With the robot's driver modelled, /joint_states is what the driver executes; this is what was commanded.
+        self.commanded_publisher = node.create_publisher(JointState, "~/commanded_joint_states", 10)
+        self.odometry_publisher = node.create_publisher(Odometry, odometry_topic(self.platform), 10)
+        latched = QoSProfile(depth=1, reliability=ReliabilityPolicy.RELIABLE,
+                             durability=DurabilityPolicy.TRANSIENT_LOCAL)  # ROS 2's latching
+        self.violation_publisher = node.create_publisher(UInt32, "~/limit_violations", latched)
+        self._joint_state = JointState(name=list(self.model.joint_names))
+        self._commanded = JointState(name=list(JOINTS) + list(WHEEL_JOINTS))
+        self._odometry = Odometry()
+        self._odometry.header.frame_id = "odom"
+        self._odometry.child_frame_id = "base_footprint"
+
+    def _action_server(self, key: str, callback_group) -> ActionServer:
+        return ActionServer(self.node, FollowJointTrajectory, action_namespace(self.platform, key),
+                            execute_callback=self.execute,
+                            goal_callback=functools.partial(self.on_goal_request, key),
+                            handle_accepted_callback=functools.partial(self.on_accepted, key),
+                            cancel_callback=functools.partial(self.on_cancel, key),
+                            callback_group=callback_group)
+
+    # -- time (the caller holds self._lock) ------------------------------------------------------
+    def _now(self) -> float:
+        now = self._clock.now().nanoseconds
+        if self._epoch_ns == 0 and now > 0:
+            # A simulated clock that was silent at start-up (it reads 0) has started: the controllers' time counts
+            # from now, as a controller's update loop counts its uptime, so goals accepted meanwhile start now.
+            self._epoch_ns = now
+        return (now - self._epoch_ns) * 1e-9 if self._epoch_ns else 0.0
+
+    def _stamp(self, model_time: float):
+        """A message stamp for a time of the model."""
+        return Time(nanoseconds=self._epoch_ns + int(round(model_time * 1e9)),
+                    clock_type=self._clock.clock_type).to_msg()
+
+    def _model_stamp(self, stamp) -> Optional[float]:
+        """A trajectory's header stamp on the model's clock; None for a zero stamp (start now)."""
+        if stamp.sec == 0 and stamp.nanosec == 0:
+            return None
+        return (stamp.sec * 1000000000 + stamp.nanosec - self._epoch_ns) * 1e-9
+
+    # -- actions -------------------------------------------------------------------------------
+    def on_goal_request(self, key: str, goal) -> GoalResponse:
+        """As joint_trajectory_controller: a trajectory it cannot follow is rejected (no result)."""
+        controller = self.model.controllers[key]
+        with self._lock:
+            error_code, error_string = controller.validate(goal.trajectory.joint_names, goal_points(goal.trajectory))
+            closing = self._closing
+        if error_code == SUCCESSFUL and not closing:
+            return GoalResponse.ACCEPT
+        self.logger.warning("{} rejected a goal (error code {}): {}".format(
+            controller.name, error_code, error_string or SHUT_DOWN))
+        return GoalResponse.REJECT
+
+    def on_accepted(self, key: str, goal_handle) -> None:
+        """Give the model the goal (it replaces the running one), then start its execute callback."""
+        controller = self.model.controllers[key]
+        goal = AcceptedGoal(goal_handle)
+        request = goal_handle.request
+        trajectory = request.trajectory
+        tolerances = GoalTolerances(request.path_tolerance, request.goal_tolerance,
+                                    seconds(request.goal_time_tolerance))
+        acceptance, ended = None, []
+        with self._lock:
+            self._goals[goal.uuid] = goal
+            if goal.uuid in self._canceled_early:
+                self._canceled_early.discard(goal.uuid)
+                goal.decide(CANCELED)
+            elif self._closing:
+                goal.decide(ABORTED, INVALID_GOAL, SHUT_DOWN)
+            else:
+                now = self._now()
+                ended = controller.update(now)  # the control loop's updates due before this goal came
+                acceptance = controller.submit(goal, trajectory.joint_names, goal_points(trajectory), now,
+                                               self._model_stamp(trajectory.header.stamp), tolerances)
+        self._deliver(controller.name, ended)
+        if acceptance is not None:
+            self._settle_acceptance(controller.name, goal, acceptance)
+        goal_handle.execute()
+
+    def _settle_acceptance(self, controller_name: str, goal: AcceptedGoal, acceptance) -> None:
+        if not acceptance.accepted:
+            # Valid when requested, stale by now (its points lie before the start): it ends at once.
+            self.logger.warning("{} aborted a goal (error code {}): {}".format(
+                controller_name, acceptance.error_code, acceptance.error_string))
+            goal.decide(ABORTED, acceptance.error_code, acceptance.error_string)
+            return
+        if acceptance.preempted_goal is not None:
+            acceptance.preempted_goal.decide(ABORTED, INVALID_GOAL, PREEMPTED_BY_GOAL)
+        self.logger.debug("{} accepted a goal{}".format(
+            controller_name, ", preempting the active one" if acceptance.preempted_goal is not None else ""))
+        if acceptance.limit_violations:
+            self._report_violations(controller_name, acceptance.limit_violations)
+
+    def execute(self, goal_handle):
+        """The goal's execute callback: wait for its verdict, end the goal with it, return its result."""
+        goal = self._goals[goal_uuid(goal_handle)]  # registered by on_accepted before it called execute()
+        status, result = goal.wait()
+        try:
+            if status == CANCELED and not wait_until_canceling(goal_handle):
+                status = ABORTED  # not expected: the server never marked it canceling
+            {SUCCEEDED: goal_handle.succeed, ABORTED: goal_handle.abort, CANCELED: goal_handle.canceled}[status]()
+        finally:
+            with self._lock:
+                self._goals.pop(goal.uuid, None)
+        return result
+
+    def on_cancel(self, key: str, goal_handle) -> CancelResponse:
+        """As joint_trajectory_controller: the running goal stops where it is and ends canceled."""
+        controller = self.model.controllers[key]
+        uuid = goal_uuid(goal_handle)
+        with self._lock:
+            goal = self._goals.get(uuid)
+            if goal is None and not goal_handle.is_active:
+                return CancelResponse.REJECT  # it has just ended
+            if goal is None:  # accepted, not yet given to the model: on_accepted ends it canceled
+                self._canceled_early.add(uuid)
+                return CancelResponse.ACCEPT
+            now = self._now()
+            ended = controller.update(now)
+            stopped = controller.cancel(goal, now)
+        self._deliver(controller.name, ended)
+        if not stopped:
+            return CancelResponse.REJECT  # it ended before the cancel came: its verdict stands
+        goal.decide(CANCELED)
+        self.logger.debug("{} goal canceled, holding".format(controller.name))
+        return CancelResponse.ACCEPT
+
+    def _deliver(self, controller_name: str, outcomes: Sequence[GoalOutcome]) -> None:
+        """The verdicts of goals that ended at the control loop's updates."""
+        for outcome in outcomes:
+            if outcome.error_code == SUCCESSFUL:
+                outcome.goal.decide(SUCCEEDED, SUCCESSFUL, outcome.error_string)
+                continue
+            self.logger.info("{} aborted a goal (error code {}): {}".format(controller_name, outcome.error_code,
+                                                                            outcome.error_string))
+            outcome.goal.decide(ABORTED, outcome.error_code, outcome.error_string)
+
+    def _report_violations(self, controller_name: str, violations) -> None:
+        described = ["point {} {} = {:.5g} beyond its limit {:.5g}".format(
+            violation.point_index, violation.joint, violation.value, violation.limit)
+            for violation in violations[:MAX_VIOLATIONS_LOGGED]]
+        if len(violations) > MAX_VIOLATIONS_LOGGED:
+            described.append("and {} more".format(len(violations) - MAX_VIOLATIONS_LOGGED))
+        self.logger.warning("{} goal beyond the joint limits, executed at the limits: {}".format(
+            controller_name, "; ".join(described)))
+        self._publish_violations()
+
+    def _publish_violations(self) -> None:
+        with self._violation_lock:  # goals of different controllers arrive on different threads
+            with self._lock:
+                count = self.model.limit_violation_count
+            if count != self._reported_violations:
+                self._reported_violations = count
+                self.violation_publisher.publish(UInt32(data=count))
+
+    # -- topics ----------------------------------------------------------------------------------
+    def on_trajectory(self, key: str, trajectory: JointTrajectory) -> None:
+        """A controller's joint_trajectory topic: obeyed like a goal, without a result."""
+        controller = self.model.controllers[key]
+        with self._lock:
+            now = self._now()
+            ended = controller.update(now)
+            acceptance = controller.command(trajectory.joint_names, goal_points(trajectory), now,
+                                            self._model_stamp(trajectory.header.stamp))
+        self._deliver(controller.name, ended)
+        if not acceptance.accepted:
+            self.logger.warning("{} ignored a {} message: {}".format(controller.name, TRAJECTORY_TOPIC_NAME,
+                                                                     acceptance.error_string))
+            return
+        if acceptance.preempted_goal is not None:
+            acceptance.preempted_goal.decide(ABORTED, INVALID_GOAL,
+                                             PREEMPTED_BY_TOPIC.format(trajectory_topic(self.platform, key)))
+        if acceptance.limit_violations:
+            self._report_violations(controller.name, acceptance.limit_violations)
+
+    def on_twist(self, message: Twist) -> None:
+        with self._lock:
+            reply = self.model.base_command(message.linear.x, message.linear.y, message.angular.z, self._now())
+        if message.linear.x or message.linear.y:
+            self.logger.warning("linear.x/y of {} are not simulated (the base only turns)".format(
+                base_topic(self.platform)), once=True)
+        if reply == "invalid":
+            self.logger.warning("ignored a {} command that is not finite".format(base_topic(self.platform)))
+        else:
+            self.logger.debug("{} angular.z {:.4f}: {}".format(base_topic(self.platform), message.angular.z, reply))
+
+    def on_joint_angles(self, message: JointAnglesWithSpeed) -> None:
+        with self._lock:
+            problem = self.model.joint_angles(list(message.joint_names), list(message.joint_angles), message.speed,
+                                              message.relative, self._now())
+        # A sender streams at 10 Hz or more: one line per kind of problem, not one per message.
+        if problem is None or problem in self._joint_angle_problems:
+            return
+        self._joint_angle_problems.add(problem)
+        self.logger.warning("ignored a {} message ({}): joints {}, angles {}, speed {}; further messages with this "
+                            "problem are ignored silently".format(JOINT_ANGLES_TOPIC, problem,
+                                                                  list(message.joint_names),
+                                                                  list(message.joint_angles), message.speed))
+
+    # -- update loop -----------------------------------------------------------------------------
+    def on_tick(self) -> None:
+        with self._lock:
+            now = self._now()
+            ended = self.model.update(now)
+            joints = self.model.joint_state(now)
+            base = self.model.base_state(now)
+            commanded = self.model.driver_commands(now) if self.model.driver is not None else None
+            stamp = self._stamp(now)
+        for key, outcome in ended:
+            self._deliver(self.model.controllers[key].name, [outcome])
+        self._joint_state.header.stamp = stamp
+        self._joint_state.position = joints.positions
+        self._joint_state.velocity = joints.velocities
+        self.joint_state_publisher.publish(self._joint_state)
+        if commanded is not None:
+            self._commanded.header.stamp = stamp
+            self._commanded.position = commanded.positions
+            self._commanded.velocity = commanded.velocities
+            self.commanded_publisher.publish(self._commanded)
+        self._odometry.header.stamp = stamp
+        orientation = self._odometry.pose.pose.orientation
+        orientation.x, orientation.y, orientation.z, orientation.w = yaw_quaternion(base.heading)
+        self._odometry.twist.twist.angular.z = base.angular_velocity
+        self.odometry_publisher.publish(self._odometry)
+        if self._feedback_period is not None and now >= self._next_feedback:
+            self._next_feedback = now + self._feedback_period
+            self._publish_feedback()
+
+    def _publish_feedback(self) -> None:
+        for controller in self.model.controllers.values():
+            with self._lock:
+                goal, update = controller.active_goal, controller.last_update
+                stamp = self._stamp(update.time)
+            if goal is None:
+                continue
+            # As the controller's feedback: its last update, in its joint order; nothing measures accelerations.
+            desired, actual, error = update.desired, update.actual, update.error
+            feedback = FollowJointTrajectory.Feedback(
+                joint_names=list(controller.joint_names),
+                desired=JointTrajectoryPoint(positions=desired.positions.tolist(),
+                                             velocities=desired.velocities.tolist(),
+                                             accelerations=desired.accelerations.tolist()),
+                actual=JointTrajectoryPoint(positions=actual.positions.tolist(),
+                                            velocities=actual.velocities.tolist()),
+                error=JointTrajectoryPoint(positions=error.positions.tolist(),
+                                           velocities=error.velocities.tolist()))
+            feedback.header.stamp = stamp
+            goal.handle.publish_feedback(feedback)
+
+    def close(self) -> None:
+        """Stop updating and end every goal still running (aborted), so no execute callback keeps waiting."""
+        self.timer.cancel()
+        with self._lock:
+            self._closing = True
+            goals = list(self._goals.values())
+        for goal in goals:
+            goal.decide(ABORTED, INVALID_GOAL, SHUT_DOWN)
+
+    def wait_for_goals(self, timeout: float) -> bool:
+        """Whether every goal's execute callback ended (within `timeout`)."""
+        deadline = time.monotonic() + timeout
+        while time.monotonic() < deadline:
+            with self._lock:
+                if not self._goals:
+                    return True
+            time.sleep(0.01)
+        return False
+
+
+def wait_until_canceling(goal_handle, timeout: float = CANCEL_STATE_WAIT) -> bool:
+    """Whether the goal is (or within `timeout` becomes) canceling, the only state a goal may end canceled from."""
+    deadline = time.monotonic() + timeout
+    while not goal_handle.is_cancel_requested:
+        if time.monotonic() > deadline or not goal_handle.is_active:
+            return False
+        time.sleep(0.001)
+    return True
+
+
+def serve(node: Node, stop: threading.Event) -> int:
+    """Run the simulated Pepper on `node` until `stop` is set: 0, or 1 after a line naming a bad parameter."""
+    try:
+        settings = read_settings(node)
+    except ValueError as error:
+        node.get_logger().fatal("parameter {}".format(error))
+        return 1
+    pepper = SimulatedPepperNode(node, settings)
+    # A thread per controller for its waiting execute callback, and as many for everything else.
+    executor = MultiThreadedExecutor(num_threads=2 * len(pepper.model.controllers) + 2)
+    executor.add_node(node)
+    spinner = threading.Thread(target=executor.spin, name="executor", daemon=True)
+    spinner.start()
+    while spinner.is_alive() and not stop.wait(0.2):
+        pass
+    failed = not spinner.is_alive()
+    pepper.close()
+    pepper.wait_for_goals(timeout=2.0)
+    time.sleep(0.1)  # the executor still answers the clients waiting for those goals' results
+    executor.shutdown(timeout_sec=5.0)
+    spinner.join(timeout=5.0)
+    return 1 if failed else 0
+
+
+def main(args: Optional[List[str]] = None) -> int:
+    stop = threading.Event()
+    # Our own handlers, not rclpy's: the goals still running end before the context goes away.
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, lambda *_: stop.set())
+    try:
+        rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    except Exception as error:  # malformed --ros-args: rclpy's own words, on one line
+        print("{}: cannot start: {}".format(NODE_NAME, str(error).strip().splitlines()[0]), file=sys.stderr)
+        return 1
+    try:
+        node = Node(NODE_NAME)
+        try:
+            return serve(node, stop)
+        finally:
+            node.destroy_node()
+    finally:
+        rclpy.try_shutdown()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

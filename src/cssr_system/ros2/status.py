@@ -1,0 +1,43 @@
+"""The node's status on ROS 2 (README: "Status"): the status topic with a transient-local QoS (ROS 2's latching),
+published at every change, and the same as diagnostics (core/status.py says what they hold)."""
+from typing import Optional
+
+from cssr_system_interfaces.msg import AnimateBehaviourStatus, PartStatus
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from rclpy.qos import DurabilityPolicy, QoSProfile
+
+from cssr_system.animate_behaviour.configuration import Configuration
+from cssr_system.animate_behaviour.contract import DIAGNOSTICS_TOPIC, NODE_NAME, STATUS_TOPIC
+from cssr_system.animate_behaviour.core.status import StatusChanges, diagnostic_summary, part_rows
+from cssr_system.animate_behaviour.live_settings import moving_parts
+
+LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+
+class StatusPublisher:
+    def __init__(self, node) -> None:
+        self._node = node
+        self._status = node.create_publisher(AnimateBehaviourStatus, STATUS_TOPIC, LATCHED)
+        self._diagnostics = node.create_publisher(DiagnosticArray, DIAGNOSTICS_TOPIC, 1)
+        self._changes = StatusChanges()
+
+    def publish(self, enabled: bool, part_streams, base_streams, settings: Optional[Configuration] = None,
+                by: str = "") -> None:
+        """Publishes when anything changed since the last time. `settings`: the configuration in force."""
+        rows = part_rows(part_streams, base_streams)
+        if not self._changes.changed(enabled, rows, settings, by):
+            return
+        message = AnimateBehaviourStatus(enabled=enabled, settings_by=by, parts=[
+            PartStatus(part=part, controller=controller, state=state, yielding_to=caller)
+            for part, controller, state, caller in rows])
+        if settings is not None:
+            message.intensity, message.tempo = float(settings.intensity), float(settings.breaths_per_minute)
+            message.motion_style, message.moving_parts = settings.motion_style, moving_parts(settings)
+        message.header.stamp = self._node.get_clock().now().to_msg()
+        self._status.publish(message)
+        waiting, summary, values = diagnostic_summary(enabled, rows)
+        array = DiagnosticArray(header=message.header)
+        array.status = [DiagnosticStatus(level=DiagnosticStatus.WARN if waiting else DiagnosticStatus.OK,
+                                         name=NODE_NAME, message=summary, hardware_id="pepper",
+                                         values=[KeyValue(key=key, value=value) for key, value in values])]
+        self._diagnostics.publish(array)

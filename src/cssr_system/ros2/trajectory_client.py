@@ -1,0 +1,113 @@
+"""The ROS 2 client of a controller's FollowJointTrajectory action (ros2_control's joint_trajectory_controller), as
+the part streams use it (core/goals.py says what they ask of it)."""
+import threading
+import uuid
+from typing import Callable, Optional, Set
+
+from action_msgs.msg import GoalStatus
+from builtin_interfaces.msg import Duration
+from control_msgs.action import FollowJointTrajectory
+from rclpy.action import ActionClient
+from trajectory_msgs.msg import JointTrajectoryPoint
+from unique_identifier_msgs.msg import UUID
+
+from cssr_system.animate_behaviour.core.goals import ABORTED, LOST, PREEMPTED, REJECTED, SUCCEEDED
+from cssr_system.animate_behaviour.motion.planners import GOAL_TIME_TOLERANCE
+from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory, to_points
+
+# ROS 2's goal states, by the names the log uses. A canceled goal is what ROS 1 calls preempted.
+STATE_NAMES = {GoalStatus.STATUS_SUCCEEDED: SUCCEEDED, GoalStatus.STATUS_ABORTED: ABORTED,
+               GoalStatus.STATUS_CANCELED: PREEMPTED}
+
+
+def duration(seconds: float) -> Duration:
+    nanoseconds = int(round(seconds * 1e9))
+    return Duration(sec=nanoseconds // 1000000000, nanosec=nanoseconds % 1000000000)
+
+
+def goal_message(joints, timed: TimedTrajectory) -> FollowJointTrajectory.Goal:
+    """The goal of a planned trajectory (with its hold, `planners.settled`), to start as soon as it arrives
+    (a zero stamp), with positions, velocities and accelerations and GOAL_TIME_TOLERANCE."""
+    goal = FollowJointTrajectory.Goal()
+    goal.trajectory.joint_names = list(joints)
+    goal.goal_time_tolerance = duration(GOAL_TIME_TOLERANCE)
+    goal.trajectory.points = [
+        JointTrajectoryPoint(positions=[float(value) for value in point.positions],
+                             velocities=[float(value) for value in point.velocities],
+                             accelerations=[float(value) for value in point.accelerations],
+                             time_from_start=duration(time))
+        for point, time in zip(to_points(timed), timed.times)]
+    return goal
+
+
+class SentGoal:
+    """A goal sent: its id, and its cancel, which waits for the server's acceptance if that has not come yet."""
+
+    def __init__(self, goal: FollowJointTrajectory.Goal) -> None:
+        self.goal = goal
+        self.uuid = UUID(uuid=list(uuid.uuid4().bytes))
+        self.replaced = False  # no longer runs for us
+        self._lock = threading.Lock()
+        self._handle = None  # rclpy's ClientGoalHandle, once the server has answered
+        self._cancel_wanted = False
+
+    def accepted(self, handle) -> None:
+        with self._lock:
+            self._handle = handle
+            cancel = self._cancel_wanted
+        if cancel:
+            handle.cancel_goal_async()
+
+    def cancel(self) -> None:
+        with self._lock:
+            self._cancel_wanted = True
+            handle = self._handle
+        if handle is not None:
+            handle.cancel_goal_async()
+
+    def release(self) -> None:
+        self.replaced = True
+        self.goal.trajectory.points = []
+
+
+class TrajectoryClient:
+    """One controller's FollowJointTrajectory client. `own_goals`: the ids of every goal this node sends (the
+    foreign watch tells other clients' goals apart by them)."""
+
+    def __init__(self, node, action: str, own_goals: Set[bytes], callback_group=None) -> None:
+        self.client = ActionClient(node, FollowJointTrajectory, action, callback_group=callback_group)
+        self._own_goals = own_goals
+
+    def ready(self) -> bool:
+        return self.client.server_is_ready()
+
+    @staticmethod
+    def goal(joints, timed: TimedTrajectory) -> FollowJointTrajectory.Goal:
+        return goal_message(joints, timed)
+
+    def send(self, goal: FollowJointTrajectory.Goal,
+             done: Callable[[str, Optional[int], str], None]) -> SentGoal:
+        sent = SentGoal(goal)
+        self._own_goals.add(bytes(sent.uuid.uuid))
+        future = self.client.send_goal_async(goal, goal_uuid=sent.uuid)
+        future.add_done_callback(lambda answered: self._answered(sent, answered, done))
+        return sent
+
+    def _answered(self, sent: SentGoal, future, done) -> None:
+        handle = future.result()
+        if handle is None or not handle.accepted:
+            done(REJECTED, None, "")
+            return
+        sent.accepted(handle)
+        handle.get_result_async().add_done_callback(lambda finished: self._finished(sent, finished, done))
+
+    @staticmethod
+    def _finished(sent: SentGoal, future, done) -> None:
+        response = future.result()
+        if response is None:
+            done(LOST, None, "")
+            return
+        state = STATE_NAMES.get(response.status, LOST)
+        if sent.replaced and state == ABORTED:  # joint_trajectory_controller aborts the goal a new one replaces
+            state = PREEMPTED
+        done(state, response.result.error_code, response.result.error_string)

@@ -1,0 +1,306 @@
+"""animateBehaviour on ROS 2 (cssr_system.ros2.animate_behaviour_main) beside the ROS 2 simulated Pepper, both in
+processes of their own, driven by real rclpy clients: the replies, the goals and their bands on both backends
+(FollowJointTrajectory and /joint_angles), the stop, yielding to another node's goal or setAngles calls, a live
+parameter change, and a bad configuration.
+
+Run inside the ROS 2 environment: bash tools/ros2/run.sh python3 -m pytest test/ros2 -q
+"""
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import pytest
+
+rclpy = pytest.importorskip("rclpy")
+pytest.importorskip("cssr_system_interfaces.srv")
+
+from builtin_interfaces.msg import Duration  # noqa: E402 (after the skips)
+from control_msgs.action import FollowJointTrajectory  # noqa: E402
+from cssr_system_interfaces.msg import AnimateBehaviourStatus  # noqa: E402
+from cssr_system_interfaces.srv import SetActivation  # noqa: E402
+from naoqi_bridge_msgs.msg import JointAnglesWithSpeed  # noqa: E402
+from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue  # noqa: E402
+from rcl_interfaces.srv import SetParameters  # noqa: E402
+from rclpy.action import ActionClient  # noqa: E402
+from rclpy.context import Context  # noqa: E402
+from rclpy.executors import SingleThreadedExecutor  # noqa: E402
+from rclpy.node import Node  # noqa: E402
+from rclpy.qos import DurabilityPolicy, QoSProfile  # noqa: E402
+from sensor_msgs.msg import JointState  # noqa: E402
+from std_srvs.srv import SetBool  # noqa: E402
+from trajectory_msgs.msg import JointTrajectoryPoint  # noqa: E402
+
+from cssr_system.animate_behaviour import contract  # noqa: E402
+from cssr_system.animate_behaviour.configuration import ConfigurationError, load_configuration  # noqa: E402
+from cssr_system.animate_behaviour.event_log import read_log  # noqa: E402
+from cssr_system.package_files import data_dir  # noqa: E402
+from cssr_system.pepper.joint_table import PARTS  # noqa: E402
+
+SRC = Path(__file__).resolve().parents[2] / "src"
+# The trajectory run's domain, and the joint-angle run's DOMAIN + 25: both runs last as long as this module.
+DOMAIN = 51 + os.getpid() % 25  # valid ids: 0..101
+START_TIMEOUT = 20.0  # s; a node starts in 1-2 s, but the machine may be busy
+STOP_BOUND = 0.5  # s from the disable request to each part's stop (the ROS 1 tests' bound)
+FIRST_GOAL_BOUND = 1.0  # s from the enable request to each part's first goal (the ROS 1 tests' bound)
+SIMULATOR_PARTS = {"RArm", "LArm", "Leg"}  # the simulator platform has no hand controllers
+ARM = PARTS["RArm"].joints
+
+
+def environment(domain: int) -> dict:
+    values = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
+                  PYTHONUNBUFFERED="1")
+    values["PYTHONPATH"] = os.pathsep.join(filter(None, (str(SRC), os.environ.get("PYTHONPATH"))))
+    return values
+
+
+def start(module: str, *parameters: str, domain: int = DOMAIN) -> subprocess.Popen:
+    command = [sys.executable, "-m", module, "--ros-args"]
+    for parameter in parameters:
+        command += ["-p", parameter]
+    return subprocess.Popen(command, env=environment(domain), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            text=True)
+
+
+def stop(process: subprocess.Popen) -> int:
+    if process.poll() is None:
+        process.send_signal(signal.SIGINT)
+    try:
+        return process.wait(15.0)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        return process.wait()
+
+
+def wait_until(condition, timeout: float, period: float = 0.02) -> bool:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if condition():
+            return True
+        time.sleep(period)
+    return bool(condition())
+
+
+class Client:
+    """A test node of its own context, spun on a thread: the services, the status, /joint_states, the animate
+    parameters, a FollowJointTrajectory client and a /joint_angles publisher of 'another node'."""
+
+    def __init__(self, domain: int) -> None:
+        self.context = Context()
+        rclpy.init(context=self.context, domain_id=domain)
+        self.node = Node("ros2_test_client", context=self.context)
+        self.executor = SingleThreadedExecutor(context=self.context)
+        self.executor.add_node(self.node)
+        self.status = None
+        self.joint_states = []
+        latched = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+        self.node.create_subscription(AnimateBehaviourStatus, "/animateBehaviour/status", self._on_status, latched)
+        self.node.create_subscription(JointState, "/joint_states", self.joint_states.append, 10)
+        self.set_activation = self.node.create_client(SetActivation, "/animateBehaviour/setActivation")
+        self.set_enabled = self.node.create_client(SetBool, "/animateBehaviour/set_enabled")
+        self.set_parameters = self.node.create_client(SetParameters, "/animateBehaviour/set_parameters")
+        self.joint_angles = self.node.create_publisher(JointAnglesWithSpeed, "/joint_angles", 10)
+        self.thread = threading.Thread(target=self.executor.spin, daemon=True)
+        self.thread.start()
+
+    def _on_status(self, message) -> None:
+        self.status = message
+
+    def call(self, client, request, timeout: float = 5.0):
+        assert client.wait_for_service(timeout_sec=START_TIMEOUT), "service %s" % client.srv_name
+        future = client.call_async(request)
+        assert wait_until(future.done, timeout), "no reply from %s" % client.srv_name
+        return future.result()
+
+    def activate(self, state: str) -> str:
+        return self.call(self.set_activation, SetActivation.Request(state=state)).success
+
+    def part_state(self, part: str) -> str:
+        status = self.status
+        return next((row.state for row in status.parts if row.part == part), "") if status is not None else ""
+
+    def set_parameter(self, name: str, value: float):
+        parameter = Parameter(name=name, value=ParameterValue(type=ParameterType.PARAMETER_DOUBLE,
+                                                              double_value=value))
+        return self.call(self.set_parameters, SetParameters.Request(parameters=[parameter])).results[0]
+
+    def close(self) -> None:
+        self.executor.shutdown()
+        self.node.destroy_node()
+        rclpy.shutdown(context=self.context)
+
+
+class Run:
+    """The simulated Pepper and the node, and a test client; the node's log is read from its file."""
+
+    def __init__(self, tmp: Path, simulator: tuple, node: tuple, domain: int) -> None:
+        self.log_file = tmp / "animateBehaviour.log"
+        self.simulator = start("cssr_system.ros2.simulated_pepper_node", *simulator, domain=domain)
+        self.node = start("cssr_system.ros2.animate_behaviour_main", "logFile:=%s" % self.log_file,
+                          "randomSeed:=7", *node, domain=domain)
+        self.client = Client(domain)
+        assert self.client.set_activation.wait_for_service(timeout_sec=START_TIMEOUT), self.output()
+        # Ready when the simulated Pepper publishes and the node has found its controllers (or naoqi_driver).
+        assert wait_until(lambda: self.client.joint_states, START_TIMEOUT), self.output(self.simulator)
+        assert wait_until(lambda: {entry.fields["part"] for entry in self.entries(contract.CONTROLLER_CONNECTED)}
+                          >= SIMULATOR_PARTS, START_TIMEOUT), self.output()
+
+    def entries(self, event: str, since: float = 0.0):
+        if not self.log_file.exists():
+            return []
+        return [entry for entry in read_log(str(self.log_file))
+                if entry.event == event and entry.timestamp.timestamp() >= since]
+
+    def output(self, process: subprocess.Popen = None) -> str:
+        process = process or self.node
+        return "still running" if process.poll() is None else process.communicate()[1]
+
+    def close(self) -> int:
+        self.client.activate("disabled")
+        self.client.close()
+        status = stop(self.node)
+        stop(self.simulator)
+        return status
+
+
+@pytest.fixture(scope="module")
+def trajectory_run(tmp_path_factory):
+    run = Run(tmp_path_factory.mktemp("trajectory"), ("platform:=simulator",),
+              ("platform:=simulator", "behaviour:=all", "yieldQuietTime:=0.5"), DOMAIN)
+    yield run
+    assert run.close() == 0, "SIGINT: the node stops the robot and exits 0"
+    assert run.entries(contract.NODE_STOPPED), "node_stopped in the log"
+
+
+@pytest.fixture(scope="module")
+def joint_angles_run(tmp_path_factory):
+    run = Run(tmp_path_factory.mktemp("joint_angles"), ("platform:=robot", "driver:=naoqi_driver"),
+              ("platform:=robot", "behaviour:=all", "actuation:=joint_angles", "motionStyle:=breathing",
+               "yieldQuietTime:=0.5"), DOMAIN + 25)
+    yield run
+    assert run.close() == 0
+
+
+def assert_goals_in_bands(run: Run, since: float, parts) -> None:
+    goals = [entry for entry in run.entries(contract.GOAL_SENT, since) if entry.fields["purpose"] == "animate"]
+    assert {entry.fields["part"] for entry in goals} >= set(parts), goals
+    for entry in goals:
+        lower, upper = entry.fields["lower"], entry.fields["upper"]
+        for row in entry.fields["positions"]:
+            assert all(low - 1e-9 <= value <= high + 1e-9 for value, low, high in zip(row, lower, upper)), entry
+
+
+def test_replies_are_those_of_ros_1(trajectory_run):
+    client = trajectory_run.client
+    assert client.activate("nonsense") == contract.REPLY_FAILURE
+    assert client.activate(" Disabled ") == contract.REPLY_SUCCESS
+    reply = client.call(client.set_enabled, SetBool.Request(data=False))
+    assert (reply.success, reply.message) == (True, "disabled")
+
+
+def test_goals_stay_in_their_bands_and_a_disable_stops_every_part_at_once(trajectory_run):
+    run, client = trajectory_run, trajectory_run.client
+    sent = time.time()
+    assert client.activate("enabled") == contract.REPLY_SUCCESS
+    assert wait_until(lambda: {entry.fields["part"] for entry in run.entries(contract.GOAL_SENT, sent)}
+                      >= SIMULATOR_PARTS, 5.0)
+    for part in SIMULATOR_PARTS:
+        first = min(entry.timestamp.timestamp() for entry in run.entries(contract.GOAL_SENT, sent)
+                    if entry.fields["part"] == part)
+        assert first - sent < FIRST_GOAL_BOUND, part
+    assert wait_until(lambda: all(client.part_state(part) == "animating" for part in SIMULATOR_PARTS), 3.0)
+    moved_from = len(client.joint_states)
+    time.sleep(2.0)
+    assert_goals_in_bands(run, sent, SIMULATOR_PARTS)
+    samples = client.joint_states[moved_from:]
+    arm = [dict(zip(message.name, message.position))["RShoulderPitch"] for message in samples]
+    assert max(arm) - min(arm) > 0.01, "the arm moves"
+    stopped = time.time()
+    assert client.activate("disabled") == contract.REPLY_SUCCESS
+    assert wait_until(lambda: {entry.fields["part"] for entry in run.entries(contract.GOAL_SENT, stopped)
+                               if entry.fields["purpose"] == "home"} >= SIMULATOR_PARTS, 2.0)
+    for entry in run.entries(contract.GOAL_SENT, stopped):
+        assert entry.timestamp.timestamp() - stopped < STOP_BOUND, entry
+        assert entry.fields["positions"][-1] == pytest.approx(list(PARTS[entry.fields["part"]].centre))
+    assert wait_until(lambda: all(client.part_state(part) == "idle" for part in SIMULATOR_PARTS), 4.0)
+    count = len(run.entries(contract.GOAL_SENT))
+    time.sleep(1.0)
+    assert len(run.entries(contract.GOAL_SENT)) == count, "nothing after the return home"
+
+
+def test_another_clients_goal_is_yielded_to_and_resumed_from(trajectory_run):
+    run, client = trajectory_run, trajectory_run.client
+    assert client.activate("enabled") == contract.REPLY_SUCCESS
+    assert wait_until(lambda: client.part_state("RArm") == "animating", 3.0)
+    gesture = ActionClient(client.node, FollowJointTrajectory, "/pepper/RightArm_controller/follow_joint_trajectory")
+    assert gesture.wait_for_server(timeout_sec=5.0)
+    goal = FollowJointTrajectory.Goal()
+    goal.trajectory.joint_names = list(ARM)
+    goal.trajectory.points = [JointTrajectoryPoint(positions=list(PARTS["RArm"].centre), velocities=[0.0] * 5,
+                                                   time_from_start=Duration(sec=1))]
+    since = time.time()
+    gesture.send_goal_async(goal)
+    assert wait_until(lambda: client.part_state("RArm") == "yielding", 2.0), "RArm yields"
+    assert client.part_state("LArm") == "animating", "the other parts go on"
+    assert wait_until(lambda: run.entries(contract.PART_YIELDED, since), 1.0)
+    assert wait_until(lambda: client.part_state("RArm") == "animating", 4.0), "RArm resumes"
+    assert wait_until(lambda: run.entries(contract.PART_RESUMED, since), 1.0)
+    (resumed,) = run.entries(contract.PART_RESUMED, since)
+    assert resumed.fields["part"] == "RArm" and resumed.fields["seconds"] >= 1.0
+    client.node.destroy_client(gesture)
+    assert client.activate("disabled") == contract.REPLY_SUCCESS
+
+
+def test_a_parameter_change_applies_live_and_a_bad_one_is_refused(trajectory_run):
+    run, client = trajectory_run, trajectory_run.client
+    assert client.activate("enabled") == contract.REPLY_SUCCESS
+    since = time.time()
+    assert client.set_parameter("intensity", 0.5).successful
+    assert wait_until(lambda: client.status.intensity == pytest.approx(0.5) and client.status.enabled, 2.0)
+    assert client.status.settings_by == "parameters"
+    assert wait_until(lambda: run.entries(contract.SETTING_CHANGED, since), 1.0)
+    refused = client.set_parameter("intensity", 1.5)
+    assert not refused.successful and "intensity" in refused.reason and "[0, 1]" in refused.reason
+    assert client.status.intensity == pytest.approx(0.5), "nothing applied"
+    assert client.set_parameter("intensity", 1.0).successful
+    assert client.activate("disabled") == contract.REPLY_SUCCESS
+
+
+def test_a_bad_configuration_gives_the_ros_1_line_and_exit_status(tmp_path):
+    bad = tmp_path / "bad.ini"
+    bad.write_text("platform simulator\nnumPoints 2.5\n")
+    with pytest.raises(ConfigurationError) as expected:
+        load_configuration(str(bad), {}, data_dir=data_dir())
+    process = start("cssr_system.ros2.animate_behaviour_main", "configFile:=%s" % bad,
+                    "logFile:=%s" % (tmp_path / "log"))
+    _, stderr = process.communicate(timeout=START_TIMEOUT)
+    assert process.returncode == 1
+    assert stderr.strip().splitlines() == ["animateBehaviour: invalid configuration: %s" % expected.value]
+
+
+def test_joint_angles_stream_in_bands_and_yield_to_another_nodes_calls(joint_angles_run):
+    run, client = joint_angles_run, joint_angles_run.client
+    sent = time.time()
+    assert client.activate("enabled") == contract.REPLY_SUCCESS
+    assert wait_until(lambda: run.entries(contract.ANGLES_SENT, sent), 3.0), "setAngles calls streamed"
+    assert wait_until(lambda: client.part_state("RArm") == "animating", 3.0)
+    time.sleep(1.0)
+    assert_goals_in_bands(run, sent, set(PARTS) - {"RHand", "LHand"})
+    since = time.time()
+    for _ in range(5):  # another node's short stream of calls on the right arm
+        client.joint_angles.publish(JointAnglesWithSpeed(joint_names=list(ARM), joint_angles=[1.0, -0.2, 1.2, 0.5, 0.0],
+                                                         speed=0.2))
+        time.sleep(0.05)
+    assert wait_until(lambda: client.part_state("RArm") == "yielding", 2.0), "RArm yields"
+    assert client.part_state("LArm") == "animating"
+    assert wait_until(lambda: client.part_state("RArm") == "animating", 8.0), "RArm resumes"
+    assert [entry.fields["kind"] for entry in run.entries(contract.PART_YIELDED, since)] == ["joint_angles"]
+    stopped = time.time()
+    assert client.activate("disabled") == contract.REPLY_SUCCESS
+    assert wait_until(lambda: {entry.fields["part"] for entry in run.entries(contract.GOAL_SENT, stopped)
+                               if entry.fields["purpose"] == "home"} >= {"RArm", "LArm", "Leg"}, 2.0)
+    for entry in run.entries(contract.GOAL_SENT, stopped):
+        assert entry.timestamp.timestamp() - stopped < STOP_BOUND, entry
