@@ -3,10 +3,10 @@
 
 # make demo DURATION=10 PLATFORM=simulator BEHAVIOUR=hands OUTPUT_DIR=/tmp/demo GESTURE=1
 #           STYLE=breathing DRIVER=naoqi_dcm NODE_ARGS="_gestureDuration:=1.5" SIM_ARGS="..." INTERACTION=1
-#           ACTUATION=joint_angles
+#           ACTUATION=joint_angles ROS=2   (ROS=2: the same demo on ROS 2, tools/demo_ros2.sh)
 # or DEMO_DURATION, DEMO_PLATFORM, ... in the environment (the short names only from the command line:
 # environments often hold an unrelated PLATFORM).
-DEMO_OPTIONS := DURATION PLATFORM BEHAVIOUR OUTPUT_DIR GESTURE STYLE DRIVER NODE_ARGS SIM_ARGS INTERACTION ACTUATION
+DEMO_OPTIONS := DURATION PLATFORM BEHAVIOUR OUTPUT_DIR GESTURE STYLE DRIVER NODE_ARGS SIM_ARGS INTERACTION ACTUATION ROS
 demo:
 	$(foreach option,$(DEMO_OPTIONS),$(if $(filter command line,$(origin $(option))),DEMO_$(option)='$(subst ','\'',$($(option)))')) \
 	bash tools/demo.sh

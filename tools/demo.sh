@@ -16,7 +16,7 @@
 # half-way), DEMO_ACTUATION (trajectory or joint_angles), DEMO_NODE_ARGS and DEMO_SIM_ARGS
 # (private parameters of the node and of the simulated Pepper, `_name:=value` words; the leading `_` may
 # be left out), DEMO_MASTER_URI (default: a master of its own on a free port, so a master you run is
-# never touched).
+# never touched), DEMO_ROS (2: the demo on ROS 2, tools/demo_ros2.sh).
 # Exit status: 0 when the run completed, 1 when something did not start or failed, 130 on Ctrl-C.
 #
 # roslaunch supervises the processes. One thing is done here by hand: roslaunch stops all nodes at
@@ -24,6 +24,11 @@
 # in a session of its own (Ctrl-C reaches this script only), and on Ctrl-C this script asks the driver to
 # stop (`rosnode kill`): the driver disables the node and exits, and the launch ends with it.
 set -euo pipefail
+case ${DEMO_ROS:-1} in
+  1) ;;
+  2) exec bash "$(dirname "$0")/demo_ros2.sh" ;;  # `make demo ROS=2`: the same demo on ROS 2
+  *) echo "demo: error: ROS=${DEMO_ROS} (expected 1 or 2)" >&2; exit 1 ;;
+esac
 source "$(dirname "$0")/common.sh"
 cd "$REPO_DIR"
 

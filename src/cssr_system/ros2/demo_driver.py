@@ -1,0 +1,201 @@
+"""animateBehaviourDemo on ROS 2: the demo's driver: enables animateBehaviour, prints what moves, disables it.
+
+  python3 -m cssr_system.ros2.demo_driver --ros-args [-p duration:=30.0] [-p tail:=3.0] [-p platform:=robot]
+      [-p interaction:=false] [-p recorder:=/animateBehaviourRecorder] [-p log_file:=FILE] [-p outcome_file:=FILE]
+      [-p startup_timeout:=40.0]
+
+The run of the ROS 1 driver (`cssr_system.animate_behaviour.demo.demo_run`), over rclpy: it waits (at most
+``startup_timeout`` s) until the simulated Pepper publishes /joint_states, the node's service
+/animateBehaviour/setActivation is there and the recorder (``recorder``; "" for none) subscribes /joint_states and
+every JointAngles topic the node publishes; after 1 s at rest it enables the node, prints one line a second (the
+parts moved in that second, the base heading from ``platform``'s odometry, the parts yielding to another node),
+with ``interaction`` sets the engaged preset half-way through the node's parameters, disables the node after
+``duration`` s, prints for ``tail`` s more so the return to rest is recorded, and exits.
+
+SIGINT or SIGTERM disables the node first, then exits. ``log_file``: the node's log, where a refused enable's
+reason is. ``outcome_file`` receives one line: the exit status and why. Exit status: 0 completed, 1 something did
+not start or answer, 130 stopped early.
+"""
+import signal
+import sys
+import threading
+import time
+from typing import List, Optional, Sequence
+
+import rclpy
+from cssr_system_interfaces.msg import AnimateBehaviourStatus
+from cssr_system_interfaces.srv import SetActivation
+from nav_msgs.msg import Odometry
+from rcl_interfaces.msg import ParameterDescriptor
+from rcl_interfaces.srv import SetParameters
+from rclpy.executors import SingleThreadedExecutor
+from rclpy.node import Node
+from rclpy.parameter import Parameter
+from rclpy.signals import SignalHandlerOptions
+from sensor_msgs.msg import JointState
+
+from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.contract import SERVICE_PATH, STATUS_TOPIC
+from cssr_system.animate_behaviour.demo.demo_run import (EXIT_FAILED, NODE_NAME, SERVICE_CALL_TIMEOUT,
+                                                         DemoRun, Wait, drive, say, service_failure, write_outcome)
+from cssr_system.animate_behaviour.live_settings import PRESETS, SETTING_KEYS
+from cssr_system.animate_behaviour.recording.recording import BASE_LABEL, yaw_from_quaternion
+from cssr_system.pepper.joint_table import PARTS
+from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
+from cssr_system.ros2.status import LATCHED
+
+QUEUE_DEPTH = 100
+NODE_PATH = "/" + contract.NODE_NAME
+EXECUTOR_STOP_TIMEOUT = 2.0  # s
+JOINT_ANGLES_TYPE = "naoqi_bridge_msgs/msg/JointAnglesWithSpeed"  # what the joint_angles actuation streams
+
+
+def endpoint_names(infos) -> set:
+    """Fully qualified node names of a topic's publishers or subscribers."""
+    return {"%s/%s" % (info.node_namespace.rstrip("/"), info.node_name) for info in infos}
+
+
+def call(client, request, timeout: float):
+    """The reply to `request` on `client` within `timeout` s (an executor spins the node); TimeoutError if none."""
+    if not client.wait_for_service(timeout_sec=timeout):
+        raise TimeoutError("the service is not available")
+    done = threading.Event()
+    future = client.call_async(request)
+    future.add_done_callback(lambda _: done.set())
+    if not done.wait(timeout):
+        future.cancel()  # a late reply is dropped
+        raise TimeoutError("no reply within %g s" % timeout)
+    return future.result()
+
+
+class DemoDriver(DemoRun):
+    """The run (`demo_run`) on ROS 2."""
+
+    def __init__(self, node: Node, duration: float, tail: float, recorder: str, startup_timeout: float,
+                 log_file: Optional[str], heading_topic: str, interaction: bool) -> None:
+        super().__init__(duration, tail, startup_timeout, log_file, gesture=False, interaction=interaction)
+        self.node, self.recorder = node, recorder
+        self._activation = node.create_client(SetActivation, SERVICE_PATH)
+        self._parameters = node.create_client(SetParameters, NODE_PATH + "/set_parameters")
+        node.create_subscription(JointState, "/joint_states", self._on_joint_states, QUEUE_DEPTH)
+        node.create_subscription(Odometry, heading_topic, self._on_odometry, QUEUE_DEPTH)
+        node.create_subscription(AnimateBehaviourStatus, "/" + STATUS_TOPIC, self._on_status, LATCHED)
+
+    def _on_joint_states(self, message: JointState) -> None:
+        self.window.add_joint_states(time.time(), message.name, message.position)
+
+    def _on_odometry(self, message: Odometry) -> None:
+        orientation = message.pose.pose.orientation
+        self.window.add_heading(time.time(), yaw_from_quaternion(orientation.x, orientation.y, orientation.z,
+                                                                 orientation.w))
+
+    def _on_status(self, message: AnimateBehaviourStatus) -> None:
+        self.yielding = [(PARTS[part.part].label if part.part in PARTS else BASE_LABEL, part.yielding_to)
+                         for part in message.parts if part.state == "yielding"]
+
+    # -- the node's services ----------------------------------------------------------------------
+    def activate(self, state: str, timeout: float) -> str:
+        try:
+            return call(self._activation, SetActivation.Request(state=state), timeout).success
+        except TimeoutError as error:
+            raise service_failure(state, error) from None
+
+    def engage(self) -> None:
+        """The engaged preset through the node's parameters, as a behaviour tree would switch to it."""
+        preset = PRESETS["engaged"]
+        say("switching to the engaged preset: %s" % ", ".join("%s %s" % item for item in preset.items()))
+        request = SetParameters.Request(parameters=[Parameter(SETTING_KEYS[name], value=value).to_parameter_msg()
+                                                    for name, value in preset.items()])
+        try:
+            refused = [result.reason for result in call(self._parameters, request, SERVICE_CALL_TIMEOUT).results
+                       if not result.successful]
+        except TimeoutError as error:
+            refused = [str(error)]
+        if refused:  # the demo goes on; the plot shows that nothing changed
+            say("error: the engaged preset was not applied: %s" % "; ".join(refused))
+
+    # -- start-up -------------------------------------------------------------------------------
+    def startup_waits(self) -> Sequence[Wait]:
+        waits = [("the animateBehaviour node (its service %s)" % SERVICE_PATH, self._activation.service_is_ready)]
+        if self.recorder:
+            waits.append(("the recorder %s" % self.recorder, self.records_the_node))
+        return waits
+
+    def records_the_node(self) -> bool:
+        """Whether the recorder subscribes /joint_states and every JointAngles topic the node publishes: the node's
+        first calls follow the enable within milliseconds, and a subscription made later misses them."""
+        try:
+            published = self.node.get_publisher_names_and_types_by_node(contract.NODE_NAME, "/")
+        except Exception:  # noqa: BLE001 - the node's service is seen before the node itself: asked again
+            return False
+        streams = [name for name, types in published if JOINT_ANGLES_TYPE in types]
+        return all(self.recorder in endpoint_names(self.node.get_subscriptions_info_by_topic(topic))
+                   for topic in ["/joint_states"] + streams)
+
+
+def number(value, name: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
+        raise ValueError("%s must be a number (got %r)" % (name, value))
+    return float(value)
+
+
+def make_driver(node: Node) -> DemoDriver:
+    """The driver of the node's parameters; ValueError naming a bad one."""
+    # Dynamic typing: `duration:=6` is an integer, and the check below says what is wrong, not rclpy.
+    dynamic = ParameterDescriptor(dynamic_typing=True)
+    value = {name: node.declare_parameter(name, default, dynamic).value for name, default in (
+        ("duration", 30.0), ("tail", 3.0), ("platform", "robot"), ("interaction", False),
+        ("recorder", "/animateBehaviourRecorder"), ("log_file", ""), ("startup_timeout", 40.0))}
+    duration, tail = number(value["duration"], "duration"), number(value["tail"], "tail")
+    if not duration > 0.0 or tail < 0.0:
+        raise ValueError("duration must be positive and tail not negative (got %r and %r)" % (duration, tail))
+    heading_topic = odometry_topic(PLATFORMS.get(str(value["platform"]), PLATFORMS["robot"]))
+    return DemoDriver(node, duration, tail, str(value["recorder"]), number(value["startup_timeout"], "startup_timeout"),
+                      str(value["log_file"]) or None, heading_topic, value["interaction"] is True)
+
+
+def run(node: Node, outcome_file: str, early_stops: List[str]) -> int:
+    """The run on `node`; `early_stops`: the signals that came before the driver existed."""
+    try:
+        driver = make_driver(node)
+    except ValueError as error:
+        say("error: %s" % error)
+        write_outcome(outcome_file, EXIT_FAILED, "invalid parameter: %s" % error)
+        return EXIT_FAILED
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, driver.on_signal)
+    if early_stops:
+        driver.request_stop(early_stops[0])
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    spinner = threading.Thread(target=executor.spin, name="executor", daemon=True)
+    spinner.start()
+    try:
+        status, _ = drive(driver, outcome_file, "the demo")
+    finally:
+        executor.shutdown(timeout_sec=EXECUTOR_STOP_TIMEOUT)
+        spinner.join(timeout=EXECUTOR_STOP_TIMEOUT)
+    return status
+
+
+def main(args: Optional[List[str]] = None) -> int:
+    early_stops: List[str] = []  # kept for the driver, which stops before it enables anything
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(signum, lambda number, _frame: early_stops.append(signal.Signals(number).name))
+    try:
+        rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    except Exception as error:  # malformed --ros-args: rclpy's own words, on one line
+        print("{}: cannot start: {}".format(NODE_NAME, str(error).strip().splitlines()[0]), file=sys.stderr)
+        return EXIT_FAILED
+    try:
+        node = Node(NODE_NAME)
+        try:
+            return run(node, node.declare_parameter("outcome_file", "").value, early_stops)
+        finally:
+            node.destroy_node()
+    finally:
+        rclpy.try_shutdown()
+
+
+if __name__ == "__main__":
+    sys.exit(main())

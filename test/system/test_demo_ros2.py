@@ -1,0 +1,132 @@
+"""The demo on ROS 2 (`make demo ROS=2`, tools/demo_ros2.sh) with short durations: a plain run, and a run stopped
+with Ctrl-C. Each leaves a valid PNG and a recording whose joints moved within the bands of the node's log, and no
+process it started survives. Skipped only where tools/ros2/setup.sh cannot make the ROS 2 environment."""
+import os
+import signal
+import subprocess
+import sys
+import time
+import uuid
+
+import numpy
+import pytest
+
+from test_demo_command import PNG_SIGNATURE, processes_with, status_lines
+
+REPO_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+DEMO_DURATION = 6
+SETUP_TIMEOUT = 1800  # s: the first set-up builds the interface packages (minutes); later ones take seconds
+RUN_TIMEOUT = 120  # s for one run; a plain one takes about 20
+
+
+@pytest.fixture(scope="module")
+def ros2_environment():
+    try:
+        setup = subprocess.run(["bash", os.path.join(REPO_DIR, "tools", "ros2", "setup.sh")], cwd=REPO_DIR,
+                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True,
+                               timeout=SETUP_TIMEOUT)
+    except subprocess.TimeoutExpired:
+        pytest.skip("tools/ros2/setup.sh did not finish within %d s" % SETUP_TIMEOUT)
+    if setup.returncode != 0:
+        pytest.skip("the ROS 2 environment cannot be set up on this machine (tools/ros2/setup.sh):\n"
+                    + "\n".join(setup.stdout.splitlines()[-10:]))
+
+
+def run_demo(command, output_dir, interrupt_after=None, **options):
+    """Run `command` (the demo) in a process group of its own with DEMO_<option> settings; with `interrupt_after`,
+    SIGINT to the group (as Ctrl-C in a terminal) after the first output line holding that text. Returns (exit
+    status, output, seconds from the interrupt to the exit); fails when a process of the run survives it (every one
+    inherits a marker of the run: tools/ros2/run.sh keeps CSSR_* variables)."""
+    run = uuid.uuid4().hex
+    environment = dict(os.environ, DEMO_OUTPUT_DIR=str(output_dir), CSSR_DEMO_TEST_RUN=run,
+                       **{"DEMO_" + key: str(value) for key, value in options.items()})
+    # As from a terminal: SIGINT not ignored, even where pytest runs in the background of a shell.
+    demo = subprocess.Popen(command, cwd=REPO_DIR, env=environment, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            universal_newlines=True, start_new_session=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    lines, interrupted_at = [], None
+    deadline = time.monotonic() + RUN_TIMEOUT
+    try:
+        for line in demo.stdout:
+            lines.append(line)
+            if interrupt_after is not None and interrupted_at is None and interrupt_after in line:
+                os.killpg(demo.pid, signal.SIGINT)
+                interrupted_at = time.monotonic()
+            if time.monotonic() > deadline:
+                break
+        status = demo.wait(timeout=max(1.0, deadline - time.monotonic()))
+    finally:
+        if demo.poll() is None:
+            os.killpg(demo.pid, signal.SIGKILL)
+    stop_time = time.monotonic() - interrupted_at if interrupted_at is not None else None
+    output = "".join(lines)
+    sys.stdout.write(output)  # shown by pytest when the test fails
+    settle = time.monotonic() + 3.0
+    survivors = processes_with("CSSR_DEMO_TEST_RUN=" + run)
+    while survivors and time.monotonic() < settle:
+        time.sleep(0.2)
+        survivors = processes_with("CSSR_DEMO_TEST_RUN=" + run)
+    assert survivors == [], "processes left running by the demo: %s" % survivors
+    return status, output, stop_time
+
+
+def check_plot_and_recording(output, output_dir):
+    png_path = os.path.join(str(output_dir), "animation.png")
+    assert "plot      " + png_path in output.splitlines()[-1], "the plot's path is not the last line:\n" + output
+    with open(png_path, "rb") as image:
+        content = image.read()
+    assert content.startswith(PNG_SIGNATURE) and len(content) > 30 * 1024
+    from cssr_system.animate_behaviour.recording.recording import read_recording
+    return read_recording(os.path.join(str(output_dir), "animation.json"))
+
+
+def log_entries(output_dir):
+    from cssr_system.animate_behaviour.event_log import read_log
+    return read_log(os.path.join(str(output_dir), "animateBehaviourLogFile.log"))
+
+
+def test_the_ros2_demo_runs_moves_within_the_bands_of_the_log_and_plots(ros2_environment, tmp_path):
+    status, output, _ = run_demo(["make", "demo", "ROS=2", "DURATION=%d" % DEMO_DURATION,
+                                  "OUTPUT_DIR=%s" % tmp_path], tmp_path)
+    assert status == 0, output
+    lines = status_lines(output)
+    assert len(lines) >= DEMO_DURATION + 2, "expected one line a second:\n" + output
+    assert any("arm" in line for line in lines if " enabled " in line), output
+
+    recording = check_plot_and_recording(output, tmp_path)
+    assert [state for _, state in recording.activations] == ["enabled", "disabled"]
+    enabled_at, disabled_at = [moment for moment, _ in recording.activations]
+    assert DEMO_DURATION - 0.5 < disabled_at - enabled_at < DEMO_DURATION + 1.0
+    assert len(recording.times) > 50 * DEMO_DURATION * 0.8  # /joint_states at 50 Hz
+
+    from cssr_system.animate_behaviour.recording.recording import BAND_TOLERANCE, bands_from_log, heading_excess
+    bands, _ = bands_from_log(log_entries(tmp_path))
+    assert bands and dict(recording.bands) == dict(bands), "the recording's bands are not the log's"
+    enabled = (recording.times > enabled_at) & (recording.times < disabled_at)
+    moved = []
+    for name, band in bands.items():
+        values = recording.positions[:, recording.joint_names.index(name)]
+        assert numpy.all(values >= band.lower - BAND_TOLERANCE) and numpy.all(values <= band.upper + BAND_TOLERANCE), \
+            "%s left its band [%g, %g]: %g..%g" % (name, band.lower, band.upper, values.min(), values.max())
+        if band.moving and numpy.ptp(values[enabled]) > 0.01:
+            moved.append(name)
+    assert {"RShoulderPitch", "LShoulderPitch"} <= set(moved), "joints that moved: %s" % moved
+    assert heading_excess(recording) <= BAND_TOLERANCE
+
+
+def test_ctrl_c_disables_the_node_first_stops_everything_and_still_plots(ros2_environment, tmp_path):
+    status, output, stop_time = run_demo(["bash", os.path.join(REPO_DIR, "tools", "demo.sh")], tmp_path,
+                                         interrupt_after="   2 s  enabled", ROS=2, DURATION=60)
+    assert stop_time is not None, "the demo never printed its second line:\n" + output
+    assert status == 130, output
+    assert stop_time < 30.0, "the demo took %.0f s to stop after Ctrl-C" % stop_time
+    assert "animateBehaviour disabled" in output
+
+    recording = check_plot_and_recording(output, tmp_path)
+    assert [state for _, state in recording.activations] == ["enabled", "disabled"]
+    assert recording.activations[1][0] - recording.activations[0][0] < 20.0  # long before the 60 s
+    events = [(entry.event, entry.fields) for entry in log_entries(tmp_path)]
+    names = [event for event, _ in events]
+    disabled = names.index("activation_request", names.index("activation_request") + 1)
+    assert events[disabled][1] == {"state": "disabled", "reply": "1"}
+    assert disabled < names.index("node_stopped"), "the node was stopped before it was disabled"

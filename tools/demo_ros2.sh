@@ -1,0 +1,202 @@
+#!/usr/bin/env bash
+# The demo on ROS 2 (`make demo ROS=2`, or DEMO_ROS=2 in the environment; tools/demo.sh hands over to this
+# script): makes the ROS 2 environment (tools/ros2/setup.sh), then runs the simulated Pepper, animateBehaviour,
+# the recorder and the demo's driver on ROS 2, on a domain of its own, from this clone's source. The driver enables
+# the node for DEMO_DURATION seconds with one line a second, then disables it; the recorder leaves the recording
+# and the plot in the output folder and prints their paths, as on ROS 1 (doc/demo.md).
+#   make demo ROS=2 DURATION=10 PLATFORM=simulator BEHAVIOUR=hands OUTPUT_DIR=/tmp/demo STYLE=breathing
+#   make demo ROS=2 DRIVER=naoqi_dcm INTERACTION=1 NODE_ARGS="gestureDuration:=1.5" SIM_ARGS="feedback_rate:=20"
+#   make demo ROS=2 STYLE=breathing ACTUATION=joint_angles
+# Environment: the DEMO_<option> variables of tools/demo.sh but two: DEMO_GESTURE (there is no ROS 2 gesture
+# player) and DEMO_MASTER_URI (no master); NODE_ARGS and SIM_ARGS words become ROS 2 parameters (`-p name:=value`).
+# DEMO_DOMAIN_ID: the ROS_DOMAIN_ID to use (default: one that no process of this machine uses).
+# Exit status: 0 when the run completed, 1 when something did not start or failed, 130 on Ctrl-C.
+#
+# No ROS 2 launch here (PyPI has none): this script starts the four programs, each in a session of its own, so
+# Ctrl-C reaches this script only. On Ctrl-C it sends SIGINT to the driver, which disables the node and exits; then
+# SIGINT stops the others (the recorder writes the plot). Each gets one SIGINT: Python restores the default action
+# as it exits, so a second one could kill a program that is ending well.
+set -euo pipefail
+source "$(dirname "$0")/common.sh"
+cd "$REPO_DIR"
+
+STOP_TIMEOUT=30  # s for a program to end after SIGINT (the recorder draws the plot first), then SIGKILL
+
+bash tools/ros2/setup.sh
+
+# `_name:=value` or `name:=value` words, as ROS 2 parameters.
+ros2_parameters() {
+  local word result=()
+  for word in $1; do
+    case $word in *?:=*) ;; *) echo "demo: error: '$word' in $2 is not name:=value" >&2; return 1 ;; esac
+    result+=(-p "${word#_}")
+  done
+  echo "${result[*]:-}"
+}
+case ${DEMO_GESTURE:-0} in
+  0|false|no) ;;
+  *) echo "demo: error: GESTURE=${DEMO_GESTURE} needs ROS 1 (there is no ROS 2 gesture player)" >&2; exit 1 ;;
+esac
+case ${DEMO_INTERACTION:-0} in
+  1|true|yes) interaction=true ;;
+  0|false|no) interaction=false ;;
+  *) echo "demo: error: INTERACTION=${DEMO_INTERACTION} (expected 1 or 0)" >&2; exit 1 ;;
+esac
+platform=${DEMO_PLATFORM:-robot}
+node_parameters=(-p "platform:=$platform" -p "behaviour:=${DEMO_BEHAVIOUR:-all}")
+# As launch/animateBehaviourDemo.launch sets them, so both ROS judge the goals alike.
+sim_parameters=(-p "platform:=$platform" -p velocity_report:=commanded)
+[ -z "${DEMO_STYLE:-}" ] || node_parameters+=(-p "motionStyle:=$DEMO_STYLE")
+[ -z "${DEMO_DRIVER:-}" ] || sim_parameters+=(-p "driver:=$DEMO_DRIVER")
+# ACTUATION=joint_angles: the simulated Pepper runs as naoqi_driver, the only driver model that executes it.
+case ${DEMO_ACTUATION:-}/${DEMO_DRIVER:-naoqi_driver} in
+  /*|trajectory/*) ;;
+  joint_angles/naoqi_driver) node_parameters+=(-p actuation:=joint_angles); sim_parameters+=(-p driver:=naoqi_driver) ;;
+  joint_angles/*) echo "demo: error: ACTUATION=joint_angles runs the simulated Pepper as naoqi_driver, not" \
+                    "DRIVER=${DEMO_DRIVER}" >&2; exit 1 ;;
+  *) echo "demo: error: ACTUATION=${DEMO_ACTUATION} (expected trajectory or joint_angles)" >&2; exit 1 ;;
+esac
+[ "${DEMO_ACTUATION:-}" != trajectory ] || node_parameters+=(-p actuation:=trajectory)
+words=$(ros2_parameters "${DEMO_NODE_ARGS:-}" NODE_ARGS) || exit 1
+read -r -a more <<< "$words"
+node_parameters+=("${more[@]}")
+words=$(ros2_parameters "${DEMO_SIM_ARGS:-}" SIM_ARGS) || exit 1
+read -r -a more <<< "$words"
+sim_parameters+=("${more[@]}")
+
+output_dir=$(mkdir -p "${DEMO_OUTPUT_DIR:-$WORKSPACE_DIR/demo}" && cd "${DEMO_OUTPUT_DIR:-$WORKSPACE_DIR/demo}" && pwd)
+run_log="$output_dir/ros2_demo.log"
+outcome_file="$output_dir/demo_outcome.txt"
+log_file="$output_dir/animateBehaviourLogFile.log"
+rm -f "$outcome_file"
+
+# A ROS_DOMAIN_ID that no process of this machine has in its environment (so not another demo's or a test's), of
+# 1-101 (0 is ROS 2's default, which a simulator started by hand uses); at random, so two demos starting together
+# are unlikely to pick the same.
+free_domain() {
+  python3 -c '
+import os, random
+used = set()
+for pid in filter(str.isdigit, os.listdir("/proc")):
+    try:
+        with open("/proc/%s/environ" % pid, "rb") as environment:
+            used.update(entry[14:] for entry in environment.read().split(b"\0") if entry.startswith(b"ROS_DOMAIN_ID="))
+    except OSError:
+        pass
+print(random.choice([domain for domain in range(1, 102) if str(domain).encode() not in used] or [0]))'
+}
+export ROS_DOMAIN_ID=${DEMO_DOMAIN_ID:-$(free_domain)}
+# Whole lines into the shared log: each program flushes its lines itself (unbuffered output would split them).
+export ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST RCUTILS_COLORIZED_OUTPUT=0
+
+# start MODULE ARGUMENT...: python3 -m MODULE in the ROS 2 environment, this clone's source ahead of the install, in
+# a session of its own, its output appended to the run's log. The pid ($!) is the program's: every step execs.
+# SIGINT back to its default action: bash has background programs ignore it, and a program that has not set its
+# handler yet should end on it.
+start() {
+  setsid env --default-signal=INT bash tools/ros2/run.sh \
+    bash -c 'PYTHONPATH="$0${PYTHONPATH:+:$PYTHONPATH}" exec python3 -m "$@"' "$REPO_DIR/src" "$@" \
+    </dev/null >>"$run_log" 2>&1 &
+}
+running() { kill -0 "$1" 2>/dev/null; }
+# stop_programs PID...: SIGINT to each, then SIGKILL to those still running after STOP_TIMEOUT s.
+stop_programs() {
+  local pid alive deadline=$((SECONDS + STOP_TIMEOUT))
+  for pid in "$@"; do kill -INT "$pid" 2>/dev/null || true; done
+  while :; do
+    alive=()
+    for pid in "$@"; do running "$pid" && alive+=("$pid"); done
+    [ ${#alive[@]} -gt 0 ] || return 0
+    if [ "$SECONDS" -ge "$deadline" ]; then
+      echo "demo: error: killing what did not end within $STOP_TIMEOUT s of SIGINT (pids ${alive[*]})"
+      kill -KILL "${alive[@]}" 2>/dev/null || true
+      return 0
+    fi
+    sleep 0.1
+  done
+}
+
+interrupted=0
+trap 'interrupted=$((interrupted + 1))' INT TERM
+log_step "demo: animateBehaviour on the simulated Pepper, ROS 2 (domain $ROS_DOMAIN_ID; full output: $run_log)"
+: >"$run_log"
+# What you see: the lines of the demo's programs, errors of any, and the last line of a Python traceback (not
+# KeyboardInterrupt's: Ctrl-C while a program starts).
+shown='^animateBehaviour(Demo|Recorder)|^ *[0-9]+ s  |^[A-Za-z]+: (error|invalid|cannot start)|\[(ERROR|FATAL)\]'
+shown+='|^[A-Za-z_.]*(Error|Exception)\b'
+# The display ignores Ctrl-C, so it shows the run's last lines; it ends when this sleep does.
+(trap '' INT TERM; exec sleep infinity) &
+display_until=$!
+(trap '' INT TERM; tail -n +1 -s 0.2 -f --pid="$display_until" "$run_log" | grep --line-buffered -E "$shown" || true) &
+display_pid=$!
+end_display() {
+  kill -KILL "$display_until" 2>/dev/null || true  # KILL: it ignores INT and TERM
+  wait "$display_until" 2>/dev/null || true  # (bash's line about the killed job goes nowhere)
+  wait "$display_pid" || true
+}
+
+started=()
+# Should this script fail half-way, nothing it started outlives it.
+trap 'stop_programs "${started[@]}"; end_display' EXIT
+[ "$interrupted" = 0 ] || exit 130  # Ctrl-C already: nothing to start
+start cssr_system.ros2.simulated_pepper_node --ros-args "${sim_parameters[@]}"
+sim_pid=$!
+started+=("$sim_pid")
+start cssr_system.ros2.animate_behaviour_main --ros-args -p "logFile:=$log_file" "${node_parameters[@]}"
+node_pid=$!
+started+=("$node_pid")
+start cssr_system.ros2.recorder_node --ros-args -p "output_dir:=$output_dir" -p "log_file:=$log_file" \
+  -p "platform:=$platform"
+recorder_pid=$!
+started+=("$recorder_pid")
+start cssr_system.ros2.demo_driver --ros-args -p "duration:=${DEMO_DURATION:-30}" -p "platform:=$platform" \
+  -p "interaction:=$interaction" -p "log_file:=$log_file" -p "outcome_file:=$outcome_file"
+driver_pid=$!
+started+=("$driver_pid")
+
+failed=
+stop_sent=0
+while running "$driver_pid"; do
+  if [ "$interrupted" -gt 1 ]; then  # a second Ctrl-C: no more waiting for the driver; the node stops the robot
+    break
+  elif [ "$interrupted" = 1 ] && [ "$stop_sent" = 0 ]; then
+    echo "demo: stopping: the driver disables animateBehaviour first"
+    kill -INT "$driver_pid" 2>/dev/null || true
+    stop_sent=1
+  fi
+  if ! running "$sim_pid" || ! running "$node_pid"; then
+    break
+  fi
+  sleep 0.1 & wait $! || true
+done
+# Both run until stopped below: one that has ended failed (a bad parameter, a crash).
+running "$node_pid" || failed="the animateBehaviour node stopped"
+running "$sim_pid" || failed="the simulated Pepper stopped"
+stop_programs "$driver_pid"
+driver_status=0
+wait "$driver_pid" || driver_status=$?
+stop_programs "$recorder_pid" "$node_pid" "$sim_pid"
+recorder_status=0
+wait "$recorder_pid" || recorder_status=$?
+end_display
+trap - INT TERM EXIT
+
+if [ "$interrupted" -gt 0 ]; then
+  exit 130
+fi
+if [ -n "$failed" ]; then
+  echo "demo: error: $failed before the end; see the lines above and $run_log"
+  exit 1
+fi
+if [ "$driver_status" = 130 ]; then  # stopped, not by Ctrl-C here
+  echo "demo: error: the demo's driver was stopped before the end; see $run_log"
+  exit 1
+fi
+if [ "$driver_status" != 0 ]; then
+  echo "demo: error: the run did not complete; see the lines above and $run_log"
+  exit 1
+fi
+if [ "$recorder_status" != 0 ]; then
+  echo "demo: error: the recorder wrote no plot; see the lines above and $run_log"
+  exit 1
+fi
