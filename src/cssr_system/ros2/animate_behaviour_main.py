@@ -92,12 +92,14 @@ def main(argv: Optional[List[str]] = None) -> int:
     reasons: List[str] = []
     for number, name in ((signal.SIGINT, "SIGINT"), (signal.SIGTERM, "SIGTERM")):
         signal.signal(number, lambda _number, _frame, name=name: (reasons.append(name), stop.set()))
-    executor = SingleThreadedExecutor()
-    executor.add_node(node)
-    threading.Thread(target=executor.spin, name="executor", daemon=True).start()
     node.get_logger().info("{} {}: makes the Pepper robot look alive with small random movements.".format(
         NODE_NAME, wiring.version))
     wiring.start(*loaded)
+    # Spun once the clients exist: an rclpy ActionClient made while the executor spins may be waited on before it
+    # is complete (rclpy 9.1.2 adds it to the node before making its lock).
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)
+    threading.Thread(target=executor.spin, name="executor", daemon=True).start()
     status = run(wiring, stop)
     reason = reasons[0] if reasons else "supervisor ended"
     wiring.request_shutdown(reason)
