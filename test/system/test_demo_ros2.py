@@ -40,6 +40,8 @@ def run_demo(command, output_dir, interrupt_after=None, **options):
     run = uuid.uuid4().hex
     environment = dict(os.environ, DEMO_OUTPUT_DIR=str(output_dir), CSSR_DEMO_TEST_RUN=run,
                        **{"DEMO_" + key: str(value) for key, value in options.items()})
+    for name in ("MAKELEVEL", "MAKEFLAGS", "MFLAGS"):  # run by `make test`: `make demo` as typed in a shell
+        environment.pop(name, None)
     # As from a terminal: SIGINT not ignored, even where pytest runs in the background of a shell.
     demo = subprocess.Popen(command, cwd=REPO_DIR, env=environment, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
                             universal_newlines=True, start_new_session=True,

@@ -9,7 +9,6 @@ If the supervisor thread, the one that commands the robot, has ended, the progra
 thread and exits 1 with one line that says so. An invalid configuration: one line, exit 1.
 """
 import os
-import signal
 import sys
 import threading
 from typing import List, Optional
@@ -25,6 +24,7 @@ from cssr_system.animate_behaviour.configuration import ConfigurationError
 from cssr_system.animate_behaviour.contract import NODE_NAME
 from cssr_system.animate_behaviour.core.console import route_console
 from cssr_system.ros2.animate_behaviour_node import AnimateBehaviourNode
+from cssr_system.ros2.program import on_signals
 
 ALIVE_CHECK_PERIOD = 1.0  # s between checks that the supervisor still runs (a signal wakes the wait at once)
 TEARDOWN_TIME = 0.2  # s for the stop's last messages to leave before the node is destroyed
@@ -90,8 +90,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         return 1
     stop = threading.Event()
     reasons: List[str] = []
-    for number, name in ((signal.SIGINT, "SIGINT"), (signal.SIGTERM, "SIGTERM")):
-        signal.signal(number, lambda _number, _frame, name=name: (reasons.append(name), stop.set()))
+    on_signals(lambda name: (reasons.append(name), stop.set()))
     node.get_logger().info("{} {}: makes the Pepper robot look alive with small random movements.".format(
         NODE_NAME, wiring.version))
     wiring.start(*loaded)

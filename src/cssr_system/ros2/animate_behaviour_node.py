@@ -14,7 +14,7 @@ from cssr_system.animate_behaviour.configuration import JOINT_ANGLES_ACTUATION, 
 from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC, NODE_NAME
 from cssr_system.animate_behaviour.core.activation import Activation
 from cssr_system.animate_behaviour.core.base_stream import BaseStream
-from cssr_system.animate_behaviour.core.console import console, set_verbose
+from cssr_system.animate_behaviour.core.console import console
 from cssr_system.animate_behaviour.core.controller_watcher import ControllerWatcher
 from cssr_system.animate_behaviour.core.events import Shutdown
 from cssr_system.animate_behaviour.core.joint_angle_stream import JointAngleStream
@@ -22,9 +22,8 @@ from cssr_system.animate_behaviour.core.joint_states import JointStateCache, Joi
 from cssr_system.animate_behaviour.core.part_stream import PartStream
 from cssr_system.animate_behaviour.core.supervisor import Supervisor
 from cssr_system.animate_behaviour.event_log import BackgroundLog, EventLog, default_log_path
-from cssr_system.animate_behaviour.topics import WHEELS_KEY, joint_angles_topic
+from cssr_system.animate_behaviour.topics import joint_angles_topic
 from cssr_system.package_files import package_dir, package_version
-from cssr_system.pepper.joint_table import PARTS
 from cssr_system.ros2.foreign_watch import ForeignCommandWatch, twist_key
 from cssr_system.ros2.joint_angles_topic import JointAnglesTopic
 from cssr_system.ros2.parameters import NodeParameters
@@ -77,21 +76,11 @@ class AnimateBehaviourNode:
     def start(self, config_file: str, config: Configuration, topics: Dict[str, str]) -> None:
         self.log.write(contract.CONFIGURATION_LOADED, file=config_file, items=configuration_items(config))
         self._choose_actuation(config, topics)
-        for key, name in topics.items():  # clients and publishers connect while the node is still disabled
-            if key in PARTS:
-                self.supervisor.stream_for(key, name)
-            elif key == WHEELS_KEY:
-                self.supervisor.base_for(name)
-        set_verbose(config.verbose_mode)
-        for key, value in configuration_items(config).items():
-            console.info("%s: %-18s %s", NODE_NAME, key, value)
+        self.supervisor.set_up(config, topics)
         self._switch(True)
         self._switch.apply()  # subscribed before the first enable, which plans from the measured joints
         self._switch.thread.start()
-        self.supervisor.config = config
-        self.status.publish(False, self.supervisor.part_streams(), list(self.supervisor.bases.values()), config,
-                            self.supervisor.settings_by)
-        self.supervisor.thread.start()
+        self.supervisor.start()
         self._watcher.thread.start()
         activation = Activation(self._post, self.log, self.parameters.load, lambda: self.parameters.config_file)
         self.services = ActivationServices(self.node, activation, self.log)

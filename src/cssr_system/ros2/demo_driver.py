@@ -22,7 +22,6 @@ import threading
 import time
 from typing import List, Optional, Sequence
 
-import rclpy
 from cssr_system_interfaces.msg import AnimateBehaviourStatus
 from cssr_system_interfaces.srv import SetActivation
 from nav_msgs.msg import Odometry
@@ -31,7 +30,6 @@ from rcl_interfaces.srv import SetParameters
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
-from rclpy.signals import SignalHandlerOptions
 from sensor_msgs.msg import JointState
 
 from cssr_system.animate_behaviour import contract
@@ -42,6 +40,7 @@ from cssr_system.animate_behaviour.live_settings import PRESETS, SETTING_KEYS
 from cssr_system.animate_behaviour.recording.recording import BASE_LABEL, yaw_from_quaternion
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
+from cssr_system.ros2.program import on_signals, run_node
 from cssr_system.ros2.status import LATCHED
 
 QUEUE_DEPTH = 100
@@ -180,21 +179,9 @@ def run(node: Node, outcome_file: str, early_stops: List[str]) -> int:
 
 def main(args: Optional[List[str]] = None) -> int:
     early_stops: List[str] = []  # kept for the driver, which stops before it enables anything
-    for signum in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(signum, lambda number, _frame: early_stops.append(signal.Signals(number).name))
-    try:
-        rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
-    except Exception as error:  # malformed --ros-args: rclpy's own words, on one line
-        print("{}: cannot start: {}".format(NODE_NAME, str(error).strip().splitlines()[0]), file=sys.stderr)
-        return EXIT_FAILED
-    try:
-        node = Node(NODE_NAME)
-        try:
-            return run(node, node.declare_parameter("outcome_file", "").value, early_stops)
-        finally:
-            node.destroy_node()
-    finally:
-        rclpy.try_shutdown()
+    on_signals(early_stops.append)
+    return run_node(NODE_NAME, args, lambda node: run(node, node.declare_parameter("outcome_file", "").value,
+                                                      early_stops), EXIT_FAILED)
 
 
 if __name__ == "__main__":

@@ -24,19 +24,16 @@ of the joint_angles actuation are a topic, so their ``commanded`` line and other
 message does not name its publisher: a call counts as the node's only while the node is the topic's one publisher.
 """
 import os
-import signal
 import sys
 import threading
 from typing import Any, Dict, List, Optional
 
-import rclpy
 from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterType
 from rcl_interfaces.srv import GetParameters
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
-from rclpy.signals import SignalHandlerOptions
 from sensor_msgs.msg import JointState
 
 from cssr_system.animate_behaviour import contract
@@ -46,6 +43,7 @@ from cssr_system.animate_behaviour.recording.recording import SETTING_KEYS, RunS
 from cssr_system.animate_behaviour.recording.run_recorder import NODE_NAME, RunRecorder, default_output_dir, say
 from cssr_system.animate_behaviour.topics import joint_angles_topic
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
+from cssr_system.ros2.program import on_signals, run_node
 from cssr_system.ros2.time_conversion import seconds_of
 
 QUEUE_DEPTH = 100  # /joint_states and odometry come at 50 Hz: a busy second must not drop samples
@@ -169,22 +167,8 @@ def record(node: Node, stop: threading.Event) -> int:
 
 def main(args: Optional[List[str]] = None) -> int:
     stop = threading.Event()
-    # Our own handlers, not rclpy's: they would shut the context down, and the recording is written after.
-    for signum in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(signum, lambda *_: stop.set())
-    try:
-        rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
-    except Exception as error:  # malformed --ros-args: rclpy's own words, on one line
-        print("{}: cannot start: {}".format(NODE_NAME, str(error).strip().splitlines()[0]), file=sys.stderr)
-        return 1
-    try:
-        node = Node(NODE_NAME)
-        try:
-            return record(node, stop)
-        finally:
-            node.destroy_node()
-    finally:
-        rclpy.try_shutdown()
+    on_signals(lambda _name: stop.set())  # the recording is written after the signal, rclpy still up
+    return run_node(NODE_NAME, args, lambda node: record(node, stop))
 
 
 if __name__ == "__main__":

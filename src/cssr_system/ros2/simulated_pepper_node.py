@@ -37,13 +37,11 @@ SIGINT or SIGTERM: goals still running abort, the node ends with status 0.
 """
 import functools
 import math
-import signal
 import sys
 import threading
 import time
 from typing import Any, Dict, List, NamedTuple, Optional, Sequence, Tuple
 
-import rclpy
 from control_msgs.action import FollowJointTrajectory
 from geometry_msgs.msg import Twist
 from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
@@ -54,7 +52,6 @@ from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallb
 from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
-from rclpy.signals import SignalHandlerOptions
 from rclpy.time import Time
 from sensor_msgs.msg import JointState
 from std_msgs.msg import UInt32
@@ -66,6 +63,7 @@ from cssr_system.pepper.simulated_pepper import (CONTROL_RATE, DRIVERS, GOAL_TIM
                                                  SUCCESSFUL, GoalOutcome, GoalPoint, GoalTolerances, SimulatedPepper,
                                                  action_namespace, base_topic, check_loop_settings, odometry_topic,
                                                  yaw_quaternion)
+from cssr_system.ros2.program import on_signals, run_node
 
 NODE_NAME = "simulatedPepper"
 UPDATE_RATE = 50.0  # Hz: stepping the model (its control loop catches up), /joint_states and odometry
@@ -526,22 +524,8 @@ def serve(node: Node, stop: threading.Event) -> int:
 
 def main(args: Optional[List[str]] = None) -> int:
     stop = threading.Event()
-    # Our own handlers, not rclpy's: the goals still running end before the context goes away.
-    for signum in (signal.SIGINT, signal.SIGTERM):
-        signal.signal(signum, lambda *_: stop.set())
-    try:
-        rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
-    except Exception as error:  # malformed --ros-args: rclpy's own words, on one line
-        print("{}: cannot start: {}".format(NODE_NAME, str(error).strip().splitlines()[0]), file=sys.stderr)
-        return 1
-    try:
-        node = Node(NODE_NAME)
-        try:
-            return serve(node, stop)
-        finally:
-            node.destroy_node()
-    finally:
-        rclpy.try_shutdown()
+    on_signals(lambda _name: stop.set())  # the goals still running end before the context goes away
+    return run_node(NODE_NAME, args, lambda node: serve(node, stop))
 
 
 if __name__ == "__main__":

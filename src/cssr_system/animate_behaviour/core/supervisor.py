@@ -81,6 +81,26 @@ class Supervisor:
                           ForeignJointAngles: self._on_foreign_joint_angles,
                           AnimateGoal: self._on_animate_goal, AnimateCancel: self._on_animate_cancel}
 
+    # -- start-up -----------------------------------------------------------------------------------
+    def set_up(self, config: Configuration, topics: Dict[str, str]) -> None:
+        """Before the thread starts: a stream for every part and the base that `topics` names (their clients and
+        publishers connect while the node is still disabled, so the first commands leave at once and none is lost
+        to a connection not yet made), and the console's verbosity and configuration lines."""
+        for key, name in topics.items():
+            if key in PARTS:
+                self.stream_for(key, name)
+            elif key == WHEELS_KEY:
+                self.base_for(name)
+        set_verbose(config.verbose_mode)
+        for key, value in configuration_items(config).items():
+            console.info("%s: %-18s %s", NODE_NAME, key, value)
+        self.config = config
+
+    def start(self) -> None:
+        """Publishes the status (disabled), then runs the event loop on its thread."""
+        self._publish_status(False, self.part_streams(), list(self.bases.values()), self.config, self.settings_by)
+        self.thread.start()
+
     # -- streams ------------------------------------------------------------------------------------
     def stream_for(self, part: str, action: str) -> PartStream:
         with self._parts_lock:

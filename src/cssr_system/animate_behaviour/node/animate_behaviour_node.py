@@ -14,7 +14,7 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import JOINT_ANGLES_ACTUATION, Configuration, configuration_items
 from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC, NODE_NAME
 from cssr_system.animate_behaviour.core.base_stream import BaseStream
-from cssr_system.animate_behaviour.core.console import console, set_verbose
+from cssr_system.animate_behaviour.core.console import console
 from cssr_system.animate_behaviour.core.controller_watcher import ControllerWatcher
 from cssr_system.animate_behaviour.core.events import Shutdown
 from cssr_system.animate_behaviour.core.joint_angle_stream import JointAngleStream
@@ -33,7 +33,7 @@ from cssr_system.animate_behaviour.node.services import ActivationServices
 from cssr_system.animate_behaviour.node.status import StatusPublisher
 from cssr_system.animate_behaviour.node.trajectory_client import TrajectoryClient, rehearse
 from cssr_system.animate_behaviour.rospy_compat import write_at_once
-from cssr_system.animate_behaviour.topics import WHEELS_KEY, joint_angles_topic
+from cssr_system.animate_behaviour.topics import joint_angles_topic
 from cssr_system.package_files import package_dir, package_version
 from cssr_system.pepper.joint_table import PARTS
 
@@ -70,24 +70,12 @@ class AnimateBehaviourNode:
     def start(self, config_file: str, config: Configuration, topics: Dict[str, str]) -> None:
         self.log.write(contract.CONFIGURATION_LOADED, file=config_file, items=configuration_items(config))
         self._choose_actuation(config, topics)
-        # Clients and the base publisher connect while the node is still disabled, so the first commands leave at
-        # once and none is lost to a connection not yet made.
-        for key, name in topics.items():
-            if key in PARTS:
-                self.supervisor.stream_for(key, name)
-            elif key == WHEELS_KEY:
-                self.supervisor.base_for(name)
-        set_verbose(config.verbose_mode)
-        for key, value in configuration_items(config).items():
-            rospy.loginfo("%s: %-18s %s", NODE_NAME, key, value)
+        self.supervisor.set_up(config, topics)
         self._switch(True)
         self._switch.apply()  # subscribed before the first enable, which plans from the measured joints
         self._switch.thread.start()
         self._rehearse(config, topics)
-        self.supervisor.config = config
-        self.status.publish(False, self.supervisor.part_streams(), list(self.supervisor.bases.values()), config,
-                            self.supervisor.settings_by)
-        self.supervisor.thread.start()
+        self.supervisor.start()
         self._watcher.thread.start()
         self.live_settings.start(config)
         self.action.start()
