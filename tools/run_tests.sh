@@ -1,16 +1,19 @@
 #!/usr/bin/env bash
-# The whole test suite: installs what is missing, builds the workspace, then runs the static checks,
-# the unit tests (pytest) and the integration tests (rostest), and ends with `N passed, N failed`.
+# The whole test suite: installs what is missing, builds the workspace and the ROS 2 side, then runs the static
+# checks, the unit tests (pytest), the system tests, the integration tests (rostest) and, beside them, the ROS 2
+# tests (pytest in the ROS 2 environment), and ends with `N passed, N failed`.
 # Exits non-zero when any test fails or does not run.
 set -uo pipefail
 source "$(dirname "$0")/common.sh"
 cd "$REPO_DIR"
 
 prepare_workspace || exit 1
-log_step "ROS 2 side: venv and packages (tools/ros2/setup.sh)"
-bash tools/ros2/setup.sh || exit 1
 rm -rf "$RESULTS_DIR"
 mkdir -p "$RESULTS_DIR/rostest"
+# The ROS 2 side is made beside the static checks and the unit tests (mostly downloads and one core's builds).
+log_step "ROS 2 side: venv and packages (tools/ros2/setup.sh, in the background; output: $RESULTS_DIR/ros2-setup.out)"
+bash tools/ros2/setup.sh > "$RESULTS_DIR/ros2-setup.out" 2>&1 &
+ros2_setup=$!
 
 log_step "static checks"
 python3 tools/check_to_junit.py "$RESULTS_DIR/check-python38.xml" python38_compatibility -- \
@@ -32,6 +35,9 @@ log_step "unit tests (pytest)"
 python3 -m pytest test/unit -q -p no:cacheprovider --ignore="$checksums" --junitxml="$RESULTS_DIR/unit.xml"
 
 bash tools/unit_tests_noetic_python.sh "$RESULTS_DIR/unit-python38.xml"
+
+log_step "ROS 2 side: waiting for tools/ros2/setup.sh"
+wait "$ros2_setup" || { tail -n 40 "$RESULTS_DIR/ros2-setup.out"; echo "the ROS 2 side could not be made"; exit 1; }
 
 log_step "system tests: the commands and the README (pytest)"
 python3 -m pytest test/system -q -p no:cacheprovider --junitxml="$RESULTS_DIR/system.xml"
