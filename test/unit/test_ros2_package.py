@@ -36,3 +36,26 @@ def test_every_ros_package_the_ros_2_programs_import_is_an_exec_depend():
 def test_the_ros_2_package_has_the_ros_1_packages_version():
     assert manifest(ROOT / "ros2" / "cssr_system" / "package.xml").findtext("version") == \
         manifest(ROOT / "package.xml").findtext("version")
+
+
+LAUNCH_FILE = ROOT / "ros2" / "cssr_system" / "launch" / "animate_behaviour.launch.py"
+
+
+def launch_calls(name: str):
+    """The keyword arguments of every call to `name` in the ROS 2 launch file (it needs ROS 2's launch to run)."""
+    tree = ast.parse(LAUNCH_FILE.read_text())
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call) and getattr(node.func, "id", None) == name:
+            yield {keyword.arg: keyword.value for keyword in node.keywords}, node.args
+
+
+def test_the_launch_file_starts_the_package_s_programs():
+    executables = {ast.literal_eval(keywords["executable"]) for keywords, _ in launch_calls("Node")}
+    assert executables == {"animate_behaviour", "simulated_pepper"}
+    assert all((ROOT / "ros2" / "cssr_system" / "scripts" / name).is_file() for name in executables)
+
+
+def test_every_launch_argument_is_documented():
+    documentation = (ROOT / "doc" / "ros2.md").read_text()
+    arguments = [ast.literal_eval(args[0]) for _, args in launch_calls("DeclareLaunchArgument")]
+    assert arguments and all("`%s`" % argument in documentation for argument in arguments)
