@@ -122,9 +122,12 @@ class Client:
         status = self.status
         return next((row.state for row in status.parts if row.part == part), "") if status is not None else ""
 
-    def set_parameter(self, name: str, value: float):
-        parameter = Parameter(name=name, value=ParameterValue(type=ParameterType.PARAMETER_DOUBLE,
-                                                              double_value=value))
+    def set_parameter(self, name: str, value):
+        if isinstance(value, str):
+            typed = ParameterValue(type=ParameterType.PARAMETER_STRING, string_value=value)
+        else:
+            typed = ParameterValue(type=ParameterType.PARAMETER_DOUBLE, double_value=value)
+        parameter = Parameter(name=name, value=typed)
         return self.call(self.set_parameters, SetParameters.Request(parameters=[parameter])).results[0]
 
     def close(self) -> None:
@@ -266,6 +269,7 @@ def test_a_parameter_change_applies_live_and_a_bad_one_is_refused(trajectory_run
     assert not refused.successful and "intensity" in refused.reason and "[0, 1]" in refused.reason
     assert client.status.intensity == pytest.approx(0.5), "nothing applied"
     assert client.set_parameter("intensity", 1.0).successful
+    assert not client.set_parameter("platform", "robot").successful, "the controllers are named at start-up"
     assert client.activate("disabled") == contract.REPLY_SUCCESS
 
 

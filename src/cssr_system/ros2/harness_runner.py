@@ -38,7 +38,7 @@ from cssr_system.animate_behaviour.harness import checks, session, settings
 from cssr_system.animate_behaviour.harness.session import (CONFIG_FILE_NAME, NODE_CONFIG_FILE_NAME,
                                                            REPORT_FILE_NAME, HarnessError)
 from cssr_system.package_files import data_dir, package_dir, package_path
-from cssr_system.ros2.parameters import declared_value
+from cssr_system.ros2.parameters import START_UP_KEYS, declared_value
 from cssr_system.ros2.time_conversion import seconds_of
 
 NODE_NAME = "animateBehaviourTest"
@@ -156,8 +156,10 @@ class Ros2Harness(session.NodeLink):
         return response.success
 
     def apply_configuration(self, config: Configuration, path: str) -> None:
-        # Every key at once, typed as the node declares them: a change the node refuses leaves it unchanged.
-        parameters = [Parameter(key, value=declared_value(config, key)).to_parameter_msg() for key in KEYS]
+        # Every key at once, typed as the node declares them: a change the node refuses leaves it unchanged. The
+        # keys read at start-up are the node's own (the test starts it with the platform it runs).
+        parameters = [Parameter(key, value=declared_value(config, key)).to_parameter_msg() for key in KEYS
+                      if key not in START_UP_KEYS]
         response = self._call(self._set_parameters, SetParametersAtomically.Request(parameters=parameters))
         if response is None:
             raise HarnessError("no reply from {} within {:g} s".format(self._set_parameters.srv_name, CALL_TIMEOUT))

@@ -5,7 +5,9 @@ Each key is declared with the file's value (a launch file's or the command line'
 parameters are: booleans, integers and numbers as such, the other keys as the text the file holds; any type is
 accepted later, and checked as the file's values are. A change is refused, with the configuration's reason, when
 the configuration it makes is invalid; the live settings (intensity, breathsPerMinute, motionStyle, moveArms,
-moveHands, moveLeg, turnBase) apply at once, the other keys at the next ``enabled``."""
+moveHands, moveLeg, turnBase) apply at once, the other keys at the next ``enabled``, but START_UP_KEYS, which are
+read at start-up: they name the controllers, whose clients the node makes before it spins (an rclpy action client
+made while the executor spins may be waited on before it is complete)."""
 from typing import Callable, Dict, Optional
 
 from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
@@ -18,6 +20,7 @@ from cssr_system.animate_behaviour.live_settings import LIVE_KEYS
 from cssr_system.package_files import data_dir
 
 BY = "parameters"
+START_UP_KEYS = ("platform", "robotTopics", "simulatorTopics", "actuation")
 READ_AT_START = ParameterDescriptor(read_only=True, description="read at start-up")
 
 
@@ -45,7 +48,7 @@ class NodeParameters:
         file_config = load_configuration(self.config_file, {}, data_dir=data_dir())
         for key in KEYS:
             self._node.declare_parameter(key, declared_value(file_config, key),
-                                         ParameterDescriptor(dynamic_typing=True))
+                                         ParameterDescriptor(dynamic_typing=True, read_only=key in START_UP_KEYS))
         self._declared = True
         self._node.add_on_set_parameters_callback(self._on_set)
 
