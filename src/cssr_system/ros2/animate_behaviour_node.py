@@ -20,6 +20,7 @@ from cssr_system.animate_behaviour.core.events import Shutdown
 from cssr_system.animate_behaviour.core.joint_angle_stream import JointAngleStream
 from cssr_system.animate_behaviour.core.joint_states import JointStateCache, JointStateFeed, SubscriptionSwitch
 from cssr_system.animate_behaviour.core.part_stream import PartStream
+from cssr_system.animate_behaviour.core.problems import Problems
 from cssr_system.animate_behaviour.core.supervisor import Supervisor
 from cssr_system.animate_behaviour.event_log import BackgroundLog, EventLog, default_log_path
 from cssr_system.animate_behaviour.topics import joint_angles_topic
@@ -57,6 +58,8 @@ class AnimateBehaviourNode:
         self.parameters = NodeParameters(node, self._post)
         log_file = self.parameters.log_file or default_log_path(package_dir(), os.environ.get("ROS_HOME"))
         self.log = BackgroundLog(EventLog(log_file))
+        problems = Problems(self.log)  # one console line and one log line each
+        self.report_error, self.report_problem = problems.error, problems.bad_input
         # ROS time (simulated with use_sim_time, as ros2_control's controllers): the streams' deadlines.
         self.clock = lambda: clock_seconds(node)
         self.own_goals: Set[bytes] = set()  # every goal id this node sends: other clients' goals are the rest
@@ -134,14 +137,3 @@ class AnimateBehaviourNode:
         done = threading.Event()
         self.supervisor.events.put(Shutdown(reason, done))
         done.wait(1.0)
-
-    # -- problems -----------------------------------------------------------------------------------
-    def report_error(self, where: str, error: Exception) -> None:
-        """An unexpected error in a thread of the node: one line on the console and in the log; the thread goes on."""
-        console.error("%s: %s: %s: %s", NODE_NAME, where, type(error).__name__, error)
-        self.log.write(contract.ERROR, where=where, message="{}: {}".format(type(error).__name__, error))
-
-    def report_problem(self, where: str, text: str) -> None:
-        """Bad input from outside (README: "Faults"): one line on the console and in the log."""
-        console.warning("%s: %s", NODE_NAME, text)
-        self.log.write(contract.ERROR, where=where, message=text)

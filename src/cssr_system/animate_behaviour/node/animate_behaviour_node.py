@@ -20,6 +20,7 @@ from cssr_system.animate_behaviour.core.events import Shutdown
 from cssr_system.animate_behaviour.core.joint_angle_stream import JointAngleStream
 from cssr_system.animate_behaviour.core.joint_states import JointStateCache, JointStateFeed, SubscriptionSwitch
 from cssr_system.animate_behaviour.core.part_stream import PartStream
+from cssr_system.animate_behaviour.core.problems import Problems
 from cssr_system.animate_behaviour.core.supervisor import Supervisor
 from cssr_system.animate_behaviour.event_log import BackgroundLog, EventLog, default_log_path
 from cssr_system.animate_behaviour.motion.styles import MotionStyle
@@ -48,6 +49,8 @@ class AnimateBehaviourNode:
         self.version = package_version()
         log_file = rospy.get_param("~logFile", default_log_path(package_dir(), os.environ.get("ROS_HOME")))
         self.log = BackgroundLog(EventLog(log_file))
+        problems = Problems(self.log)  # one console line and one log line each
+        self.report_error, self.report_problem = problems.error, problems.bad_input
         # The clock the controllers execute goals on (ROS time, as Gazebo's controllers): the streams' deadlines.
         self.clock = rospy.get_time
         self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text))
@@ -139,14 +142,3 @@ class AnimateBehaviourNode:
 
     def supervisor_alive(self) -> bool:
         return self.supervisor.thread.is_alive()
-
-    # -- problems -----------------------------------------------------------------------------------
-    def report_error(self, where: str, error: Exception) -> None:
-        """An unexpected error in a thread of the node: one line on the console and in the log; the thread goes on."""
-        rospy.logerr("%s: %s: %s: %s", NODE_NAME, where, type(error).__name__, error)
-        self.log.write(contract.ERROR, where=where, message="{}: {}".format(type(error).__name__, error))
-
-    def report_problem(self, where: str, text: str) -> None:
-        """Bad input from outside (README: "Faults"): one line on the console and in the log."""
-        rospy.logwarn("%s: %s", NODE_NAME, text)
-        self.log.write(contract.ERROR, where=where, message=text)
