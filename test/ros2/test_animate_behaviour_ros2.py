@@ -308,3 +308,20 @@ def test_joint_angles_stream_in_bands_and_yield_to_another_nodes_calls(joint_ang
                                if entry.fields["purpose"] == "home"} >= {"RArm", "LArm", "Leg"}, 2.0)
     for entry in run.entries(contract.GOAL_SENT, stopped):
         assert entry.timestamp.timestamp() - stopped < STOP_BOUND, entry
+
+
+def test_sigint_while_animating_returns_every_part_home_before_the_node_exits(tmp_path):
+    run = Run(tmp_path, ("platform:=simulator",), ("platform:=simulator", "behaviour:=body"), DOMAIN - 50)
+    try:
+        assert run.client.activate("enabled") == contract.REPLY_SUCCESS
+        assert wait_until(lambda: all(run.client.part_state(part) == "animating" for part in SIMULATOR_PARTS), 3.0)
+        time.sleep(1.0)
+        assert stop(run.node) == 0
+        time.sleep(2.5)  # the return home takes at most 2 s
+        final = dict(zip(run.client.joint_states[-1].name, run.client.joint_states[-1].position))
+        for part in SIMULATOR_PARTS:
+            for joint, centre in zip(PARTS[part].joints, PARTS[part].centre):
+                assert final[joint] == pytest.approx(centre, abs=0.01), joint
+    finally:
+        run.client.close()
+        stop(run.simulator)

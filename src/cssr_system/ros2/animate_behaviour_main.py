@@ -11,6 +11,7 @@ thread and exits 1 with one line that says so. An invalid configuration: one lin
 import os
 import sys
 import threading
+import time
 from typing import List, Optional
 
 import rclpy
@@ -106,7 +107,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         wiring.services.withdraw()
     wiring.log.write(contract.NODE_STOPPED, reason=reason)
     wiring.log.close()
-    stop.wait(TEARDOWN_TIME)  # the cancels, return goals and zero Twist are handed over: let them leave
+    time.sleep(TEARDOWN_TIME)  # the cancels, return goals and zero Twist are handed over: let them leave
     sys.stdout.flush()
     sys.stderr.flush()
     os._exit(status)  # rclpy's teardown of a spinning executor is not needed: the robot is stopped
