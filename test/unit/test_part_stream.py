@@ -13,7 +13,8 @@ from cssr_system.animate_behaviour.motion.planners import GOAL_TIME_TOLERANCE, S
 from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng
 from cssr_system.animate_behaviour.core.foreign_motion import RESULT_GRACE
 from cssr_system.animate_behaviour.core.motion_stream import StreamState as PartState
-from cssr_system.animate_behaviour.core.part_stream import LOST_RESULT_GRACE, RETRY_DELAY, TRANSITIONS, PartStream
+from cssr_system.animate_behaviour.core.part_stream import (LOST_RESULT_GRACE, MEASURE_LEAD, RETRY_DELAY, TRANSITIONS,
+                                                            PartStream)
 from cssr_system.pepper.joint_table import PARTS
 
 ACTION = "/pepper_dcm/RightArm_controller/follow_joint_trajectory"
@@ -506,3 +507,35 @@ def test_a_continuous_goal_sent_before_the_clock_runs_is_continued_before_its_en
     rig.stream.tick()
     assert len(rig.client.handles) == 1, "not replaced when the clock starts"
     assert rig.stream.next_deadline() == pytest.approx(5000.0 + duration - CONTINUATION_LEAD)
+
+
+def test_the_measured_joints_are_needed_but_while_a_goal_of_ours_runs_until_its_last_second():
+    rig = Rig(connected=False)
+    rig.enable()
+    assert rig.stream.needs_measurements(rig.now), "waiting for the controller"
+    rig.stream.controller_connected()
+    end = rig.goal_end_time()
+    assert not rig.stream.needs_measurements(rig.now)
+    assert not rig.stream.needs_measurements(end - MEASURE_LEAD - 0.01)
+    assert rig.stream.needs_measurements(end - MEASURE_LEAD), "its end is judged by them, the next goal starts there"
+    rig.stream.disable(home=True)
+    assert rig.stream.needs_measurements(rig.now), "returning home"
+
+
+def test_without_a_measurement_the_next_goal_starts_where_the_ended_goal_left_the_joints():
+    rig = Rig(measured=None)
+    starts = []
+    planner = rig.plan
+
+    def recording_plan(now, positions, velocities, accelerations):
+        starts.append(numpy.array(positions, dtype=float))
+        return planner(now, positions, velocities, accelerations)
+    recording_plan.continuation_lead = planner.continuation_lead
+    rig.plan = recording_plan
+    rig.enable()
+    ended_at = numpy.array(rig.client.handles[-1].goal.trajectory.points[-1].positions)
+    rig.now = rig.goal_end_time()
+    rig.finish_last(GoalStatus.SUCCEEDED)
+    assert len(rig.client.handles) == 2
+    assert starts[-1] == pytest.approx(ended_at), "not from the centre"
+    assert not numpy.allclose(ended_at, PARTS["RArm"].centre)

@@ -12,7 +12,7 @@ from cssr_system.animate_behaviour.core.session import CANCELLED, DISABLED, DURA
 from cssr_system.animate_behaviour.core.events import (AnimateCancel, AnimateGoal, ControllerConnected, Disable,
                                                        Enable, GoalDone, Reconfigure)
 from cssr_system.animate_behaviour.core.joint_states import FeedState
-from cssr_system.animate_behaviour.core.part_stream import PartStream
+from cssr_system.animate_behaviour.core.part_stream import MEASURE_LEAD, PartStream
 from cssr_system.animate_behaviour.core.supervisor import Supervisor
 
 TOPICS = {"RArm": "/pepper_dcm/RightArm_controller/follow_joint_trajectory",
@@ -42,8 +42,11 @@ class FakeActionServer:
 class FakeFeed:
     state = FeedState.LISTENING
 
+    def __init__(self):
+        self.why = []  # each update's reason to listen (None: none)
+
     def update(self, busy, measured, now):
-        pass
+        self.why.append(busy)
 
     def listen(self, why):
         pass
@@ -63,8 +66,9 @@ class Rig:
         self.action = FakeActionServer()
         self.statuses = []
         self.shown = []
+        self.feed = FakeFeed()
         self.supervisor = Supervisor(lambda: self.now, self.log, self.make_part, self.make_base,
-                                     lambda *status: self.statuses.append(status), FakeJointStates(), FakeFeed(),
+                                     lambda *status: self.statuses.append(status), FakeJointStates(), self.feed,
                                      self.report_error, self.action, self.shown.append)
         self.supervisor.config = CONFIG
         for key, action in TOPICS.items():
@@ -196,3 +200,15 @@ def test_goal_results_reach_the_streams():
     before = rig.goals("RArm")
     rig.post(GoalDone("RArm", TOPICS["RArm"], before, "SUCCEEDED", 0, ""))
     assert rig.goals("RArm") == before + 1
+
+
+def test_joint_states_are_not_needed_while_every_part_runs_a_goal_until_the_last_second_of_one():
+    rig = Rig()
+    assert rig.feed.why[-1] is None, "disabled: at rest"
+    enable(rig)
+    assert rig.feed.why[-1] is None, "every part runs a goal of ours: the goals say where the joints are"
+    rig.now = min(stream._sent.end_time for stream in rig.supervisor.part_streams()) - MEASURE_LEAD
+    rig.supervisor.step(0.0)
+    assert rig.feed.why[-1] is not None, "a goal ends soon: its end and the next goal start from the measured joints"
+    rig.post(Disable("disabled", threading.Event()))
+    assert "homing" in rig.feed.why[-1]

@@ -8,14 +8,17 @@ MAX_AGE seconds; planning asks for whole parts and gets None when one of its joi
 and then plans as without a measurement. Each kind of problem is reported once, to the `report` callable; nothing
 here ever raises into rospy's callback thread. Pure Python: the clock and the report are injected.
 
-/joint_states comes 50 times a second, and each message costs rospy a thread wake-up and a decode: most of what a
-disabled node would spend. A joint moves only when its controller is told to: by a goal or setAngles call of ours,
-or by another node's goal, ``command`` trajectory or setAngles call, which the node sees on the controller's status
-and command topics and on the JointAngles topic (node/foreign_watch.py). So once the robot is quiet (the node
-disabled, every part idle, no other node's motion within the quiet time) and every joint has a current measurement,
-for REST_DELAY seconds, the feed holds the measurements (where the joints rest: `JointStateCache.hold` keeps them
-current however old they grow) and unsubscribes. It listens again at an enable, when another node moves a part, and
-when a controller comes or goes (a restarted controller may have moved its joints).
+/joint_states comes 50 times a second, and each message costs rospy a thread wake-up and a decode: most of what the
+node spends. A joint moves only when its controller is told to: by a goal or setAngles call of ours, or by another
+node's goal, ``command`` trajectory or setAngles call, which the node sees on the controller's status and command
+topics and on the JointAngles topic. And while a goal of ours runs, the node knows where the joints are: the goal
+says so. So the feed listens only while a stream needs the measured joints (`needs_measurements`: a part that waits,
+yields, returns home or streams setAngles calls; a goal stream from MEASURE_LEAD before its goal's end, whose
+judgement and the next goal start from them) or another node moves a part. Once none does and every joint has a
+current measurement, for REST_DELAY seconds, the feed holds the measurements (`JointStateCache.hold` keeps them current
+however old they grow; nothing reads them while they are held but a plan that starts from the joints at rest) and
+unsubscribes. It listens again when a stream needs them, when another node moves a part, and when a controller comes
+or goes (a restarted controller may have moved its joints).
 
 `JointStateCache` and `JointStateFeed` are pure (the clock, the report and the switching are injected);
 `SubscriptionSwitch` subscribes and unsubscribes on its own thread, because registering with the master may wait

@@ -83,6 +83,11 @@ class PartMotionStream(MotionStream):
     _command_count = 0  # numbers other nodes' command-topic trajectories
     not_connected = "controller not connected"
 
+    def needs_measurements(self, now: float) -> bool:
+        """Whether /joint_states must be listened to while the stream is active (always, unless a subclass knows
+        better: a joint-angle stream stops from the measured joints)."""
+        return True
+
     def enable(self, motion, plan, quiet_time: float = DEFAULT_QUIET_TIME) -> None:
         """Animate `motion` (a motion.waypoints.PartMotion) with the motion from `plan` (a motion.planners.Planner);
         what runs goes on along the new plan."""

@@ -43,6 +43,9 @@ LOST_RESULT_GRACE = 5.0  # s after a goal's end before a missing result counts a
 # every joint is this close to its last point.
 END_TIME_SLACK = 0.1  # s
 END_POSITION_TOLERANCE = 0.01  # rad
+# s before the end of a running goal of ours when the measured joints are wanted again (core/joint_states.py: the feed
+# subscribes, and the first message comes well within this).
+MEASURE_LEAD = 1.0
 
 IDLE, ANIMATING, YIELDING, WAITING, HOMING = (StreamState.IDLE, StreamState.ANIMATING, StreamState.YIELDING,
                                               StreamState.WAITING, StreamState.HOMING)
@@ -164,6 +167,13 @@ class PartStream(PartMotionStream):
         self.retry_at = now + delay
         self.transition_to(WAITING, "goal %d %s; retry in %.0f s" % (number, state_name, delay))
 
+    def needs_measurements(self, now: float) -> bool:
+        """Whether /joint_states must be listened to: not while a goal of ours runs, until MEASURE_LEAD before its
+        end (the next goal and the judgement of its end start from the measured joints)."""
+        if self.state != ANIMATING or self._sent is None or not self._sent.dated:
+            return True
+        return now >= self._sent.end_time - MEASURE_LEAD
+
     def controller_ready(self) -> bool:
         """For the controller watcher: the controller's action server answers."""
         return self.client.ready()
@@ -257,13 +267,13 @@ class PartStream(PartMotionStream):
     # -- goals --------------------------------------------------------------------------------------
     def _finish_goal(self, why: str) -> None:
         """A goal of ours ended as planned: a part going home is done, an animating one goes on."""
-        purpose = self.sent_purpose
-        self._sent = None
+        if self.state == ANIMATING and self.sent_purpose == PURPOSE_ANIMATE:
+            self._animate(why)  # from the measured joints, else from where the ended goal left them
+            return
+        purpose, self._sent = self.sent_purpose, None
         if purpose == PURPOSE_HOME and self.state == HOMING:
             self._animated = False
             self.transition_to(IDLE, why + "; at the centre")
-        elif self.state == ANIMATING:
-            self._animate(why)
 
     def _animate(self, why: str) -> None:
         self._dispatch(self._outgoing(PURPOSE_ANIMATE, self._plan))

@@ -168,7 +168,7 @@ class Supervisor:
             self._tick_session(now)
 
     def _update_feed(self) -> None:
-        """/joint_states is listened to while the joints may move (core/joint_states.py)."""
+        """/joint_states is listened to while the measured joints are needed (core/joint_states.py)."""
         streams = self.part_streams()
         now = self.clock()
         busy = self._why_joints_may_move(streams, now)
@@ -177,10 +177,9 @@ class Supervisor:
         self._feed.update(busy, measured, now)
 
     def _why_joints_may_move(self, streams: List[PartStream], now: float) -> Optional[str]:
-        if self.enabled:
-            return "enabled"
+        """Why the measured joints are needed now (None: they are not)."""
         for stream in streams:
-            if stream.active:
+            if stream.active and stream.needs_measurements(now):
                 return "%s %s" % (stream.part, stream.state.value)
             if not stream.foreign.calm(now):
                 return "another node moves %s" % stream.part
