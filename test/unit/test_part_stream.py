@@ -519,7 +519,11 @@ def test_the_measured_joints_are_needed_but_while_a_goal_of_ours_runs_until_its_
     assert not rig.stream.needs_measurements(end - MEASURE_LEAD - 0.01)
     assert rig.stream.needs_measurements(end - MEASURE_LEAD), "its end is judged by them, the next goal starts there"
     rig.stream.disable(home=True)
-    assert rig.stream.needs_measurements(rig.now), "returning home"
+    end = rig.goal_end_time()
+    assert not rig.stream.needs_measurements(min(rig.now, end - MEASURE_LEAD - 0.01)) or end - rig.now <= MEASURE_LEAD
+    assert rig.stream.needs_measurements(end - MEASURE_LEAD), "at the centre soon: measured there"
+    rig.stream.controller_lost()
+    assert rig.stream.needs_measurements(rig.now), "the controller is gone: the joints may be anywhere"
 
 
 def test_without_a_measurement_the_next_goal_starts_where_the_ended_goal_left_the_joints():

@@ -13,12 +13,12 @@ node spends. A joint moves only when its controller is told to: by a goal or set
 node's goal, ``command`` trajectory or setAngles call, which the node sees on the controller's status and command
 topics and on the JointAngles topic. And while a goal of ours runs, the node knows where the joints are: the goal
 says so. So the feed listens only while a stream needs the measured joints (`needs_measurements`: a part that waits,
-yields, returns home or streams setAngles calls; a goal stream from MEASURE_LEAD before its goal's end, whose
-judgement and the next goal start from them) or another node moves a part. Once none does and every joint has a
-current measurement, for REST_DELAY seconds, the feed holds the measurements (`JointStateCache.hold` keeps them current
-however old they grow; nothing reads them while they are held but a plan that starts from the joints at rest) and
-unsubscribes. It listens again when a stream needs them, when another node moves a part, and when a controller comes
-or goes (a restarted controller may have moved its joints).
+yields or streams setAngles calls; a goal stream from MEASURE_LEAD before the end of its goal, animating or
+returning home, whose judgement and the next goal start from them) or another node moves a part. Once none does
+and every joint has a current measurement, for REST_DELAY seconds, the feed holds the measurements
+(`JointStateCache.hold` keeps them current however old they grow; nothing reads them while they are held but a plan
+that starts from the joints at rest) and unsubscribes. It listens again when a stream needs them, when another node
+moves a part, and when a controller comes or goes (a restarted controller may have moved its joints).
 
 `JointStateCache` and `JointStateFeed` are pure (the clock, the report and the switching are injected);
 `SubscriptionSwitch` subscribes and unsubscribes on its own thread, because registering with the master may wait

@@ -168,9 +168,10 @@ class PartStream(PartMotionStream):
         self.transition_to(WAITING, "goal %d %s; retry in %.0f s" % (number, state_name, delay))
 
     def needs_measurements(self, now: float) -> bool:
-        """Whether /joint_states must be listened to: not while a goal of ours runs, until MEASURE_LEAD before its
-        end (the next goal and the judgement of its end start from the measured joints)."""
-        if self.state != ANIMATING or self._sent is None or not self._sent.dated:
+        """Whether /joint_states must be listened to: not while a goal of ours runs (animating or returning home),
+        until MEASURE_LEAD before its end (the next goal and the judgement of its end start from the measured
+        joints)."""
+        if self.state not in (ANIMATING, HOMING) or self._sent is None or not self._sent.dated:
             return True
         return now >= self._sent.end_time - MEASURE_LEAD
 
