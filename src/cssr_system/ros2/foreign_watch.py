@@ -20,14 +20,12 @@ from trajectory_msgs.msg import JointTrajectory
 
 from cssr_system.animate_behaviour.core.events import (ForeignCommand, ForeignGoal, ForeignJointAngles,
                                                        ForeignResult, ForeignTwist)
-from cssr_system.animate_behaviour.motion.joint_angle_stream import set_angles_duration
-from cssr_system.pepper.joint_table import PARTS, centre_of
+from cssr_system.animate_behaviour.core.foreign_motion import set_angles_on_our_joints
 from cssr_system.ros2.joint_angles_topic import joint_angles_key
 from cssr_system.ros2.own_messages import OwnMessages
 from cssr_system.ros2.time_conversion import seconds_of
 
 RUNNING_STATES = (GoalStatus.STATUS_ACCEPTED, GoalStatus.STATUS_EXECUTING, GoalStatus.STATUS_CANCELING)
-ANIMATED_JOINTS = frozenset(name for part in PARTS.values() for name in part.joints)
 QUEUE_DEPTH = 10
 UNKNOWN_NODE = "another node"
 
@@ -127,11 +125,7 @@ class ForeignCommandWatch:
         the measured joints; from their centres when unmeasured)."""
         if self.own_calls.is_own(joint_angles_key(message.joint_names, message.joint_angles, message.speed)):
             return
-        joints = tuple(name for name in message.joint_names if name in ANIMATED_JOINTS)
-        if not joints:
-            return
-        measured = self._positions(joints)
-        where = dict(zip(joints, measured.tolist() if measured is not None else map(centre_of, joints)))
-        duration = set_angles_duration(message.joint_names, list(message.joint_angles), message.speed,
-                                       message.relative, where)
-        self._post(ForeignJointAngles(topic, self._publisher_of(topic), joints, self._clock() + duration))
+        call = set_angles_on_our_joints(message.joint_names, message.joint_angles, message.speed, message.relative,
+                                        self._positions)
+        if call is not None:
+            self._post(ForeignJointAngles(topic, self._publisher_of(topic), call[0], self._clock() + call[1]))

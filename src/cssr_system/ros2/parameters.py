@@ -41,7 +41,6 @@ class NodeParameters:
         self.config_file = node.declare_parameter("configFile", shipped_configuration_path(),
                                                   READ_AT_START).value
         self.log_file: Optional[str] = node.declare_parameter("logFile", "", READ_AT_START).value or None
-        self._declared = False
 
     def declare_keys(self) -> None:
         """Every configuration key, with the file's value; raises ConfigurationError when the file is unusable."""
@@ -49,11 +48,11 @@ class NodeParameters:
         for key in KEYS:
             self._node.declare_parameter(key, declared_value(file_config, key),
                                          ParameterDescriptor(dynamic_typing=True, read_only=key in START_UP_KEYS))
-        self._declared = True
         self._node.add_on_set_parameters_callback(self._on_set)
 
     def overrides(self, changes: Optional[Dict[str, object]] = None) -> Dict[str, object]:
-        values = {key: self._node.get_parameter(key).value for key in KEYS} if self._declared else {}
+        """Every key's parameter (`declare_keys` first), then `changes`."""
+        values = {key: self._node.get_parameter(key).value for key in KEYS}
         values.update(changes or {})
         return values
 

@@ -12,11 +12,17 @@ README: "Sharing the robot". Another node's command makes a part yield. A motion
 The part may move again `quiet_time` after the last of them ended; a new motion meanwhile (a chain of goals)
 keeps it yielding. Times are seconds on the clock the controllers execute on. Pure Python: no ROS.
 """
-from typing import Dict, NamedTuple, Optional
+from typing import Callable, Dict, NamedTuple, Optional, Sequence, Tuple
+
+import numpy
+
+from cssr_system.animate_behaviour.motion.joint_angle_stream import set_angles_duration
+from cssr_system.pepper.joint_table import PARTS, centre_of
 
 GOAL, COMMAND, TWIST, JOINT_ANGLES = "goal", "command", "twist", "joint_angles"
 RESULT_GRACE = 1.0  # s after a goal's last point before a missing result no longer holds the part
 DEFAULT_QUIET_TIME = 1.0  # s of calm after another node's motion before a part moves again
+ANIMATED_JOINTS = frozenset(name for part in PARTS.values() for name in part.joints)
 
 
 class ForeignMotion(NamedTuple):
@@ -93,3 +99,16 @@ class ForeignMotionTracker:
     def caller(self) -> str:
         """The caller id of the latest other node seen."""
         return self._latest_caller
+
+
+def set_angles_on_our_joints(names: Sequence[str], angles: Sequence[float], speed: float, relative: int,
+                             positions: Callable[[Sequence[str]], Optional[numpy.ndarray]]
+                             ) -> Optional[Tuple[Tuple[str, ...], float]]:
+    """Another node's setAngles call (a JointAngles message's fields): the joints of our parts it names and how long
+    it runs, from the measured `positions` (their centres when unmeasured); None when it names none of ours."""
+    joints = tuple(name for name in names if name in ANIMATED_JOINTS)
+    if not joints:
+        return None
+    measured = positions(joints)
+    where = dict(zip(joints, measured.tolist() if measured is not None else map(centre_of, joints)))
+    return joints, set_angles_duration(names, list(angles), speed, relative, where)

@@ -19,14 +19,13 @@ from geometry_msgs.msg import Twist
 from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 from trajectory_msgs.msg import JointTrajectory
 
-from cssr_system.animate_behaviour.motion.joint_angle_stream import set_angles_duration
 from cssr_system.animate_behaviour.rospy_compat import caller_of, caller_of_goal
 from cssr_system.animate_behaviour.core.events import (ForeignCommand, ForeignGoal, ForeignJointAngles,
                                                        ForeignResult, ForeignTwist)
-from cssr_system.pepper.joint_table import PARTS, centre_of, command_topic
+from cssr_system.animate_behaviour.core.foreign_motion import set_angles_on_our_joints
+from cssr_system.pepper.joint_table import command_topic
 
 RUNNING_STATES = (GoalStatus.PENDING, GoalStatus.ACTIVE, GoalStatus.PREEMPTING, GoalStatus.RECALLING)
-ANIMATED_JOINTS = frozenset(name for part in PARTS.values() for name in part.joints)
 
 
 def trajectory_end(trajectory: JointTrajectory, received_at: float) -> float:
@@ -116,12 +115,9 @@ class ForeignCommandWatch:
         """Posts a ForeignJointAngles for another node's call naming joints of our parts, with when it ends (from
         the measured joints; from their centres when unmeasured)."""
         caller = caller_of(message)
-        joints = tuple(name for name in message.joint_names if name in ANIMATED_JOINTS)
-        if caller == self._own or not joints:
+        if caller == self._own:
             return
-        now = self._clock()
-        measured = self._positions(joints)
-        where = dict(zip(joints, measured.tolist() if measured is not None else map(centre_of, joints)))
-        duration = set_angles_duration(message.joint_names, message.joint_angles, message.speed, message.relative,
-                                       where)
-        self._post(ForeignJointAngles(topic, caller or "unknown", joints, now + duration))
+        call = set_angles_on_our_joints(message.joint_names, message.joint_angles, message.speed, message.relative,
+                                        self._positions)
+        if call is not None:
+            self._post(ForeignJointAngles(topic, caller or "unknown", call[0], self._clock() + call[1]))
