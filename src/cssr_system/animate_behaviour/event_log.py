@@ -86,7 +86,7 @@ def _jsonable(value: Any, field: str) -> Any:
     if value is None or isinstance(value, (str, bool)):  # bool before int: a bool is an int
         return value
     if isinstance(value, numpy.ndarray):
-        return _jsonable(value.tolist(), field)
+        return _jsonable_array(value, field)
     if isinstance(value, numpy.generic):  # numpy scalars: float64, int32, bool_, str_ ...
         return _jsonable(value.item(), field)
     if isinstance(value, (int, float)):
@@ -96,6 +96,18 @@ def _jsonable(value: Any, field: str) -> Any:
     if isinstance(value, (datetime.datetime, datetime.date, datetime.time)):
         return value.isoformat()
     return str(value)
+
+
+def _jsonable_array(value: numpy.ndarray, field: str) -> Any:
+    """A numeric array as nested lists of plain numbers, checked in one pass (a goal's 100 points of positions
+    are logged at every goal); other arrays item by item."""
+    if value.dtype.kind not in "biuf":
+        return _jsonable(value.tolist(), field)
+    finite = numpy.isfinite(value)
+    if not finite.all():
+        index = tuple(int(i) for i in numpy.argwhere(~finite)[0])
+        _jsonable_number(value[index].item(), field + "".join("[%d]" % i for i in index))
+    return value.tolist()
 
 
 def _jsonable_number(value: Any, field: str) -> Any:
