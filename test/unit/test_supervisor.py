@@ -9,6 +9,7 @@ from fakes import FakeClient, FakeLog
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.core.session import CANCELLED, DISABLED, DURATION_ELAPSED, HOME_LEAD, REPLACED
+from cssr_system.animate_behaviour.core.base_stream import BaseStream
 from cssr_system.animate_behaviour.core.events import (AnimateCancel, AnimateGoal, ControllerConnected, Disable,
                                                        Enable, GoalDone, Reconfigure)
 from cssr_system.animate_behaviour.core.joint_states import FeedState
@@ -80,9 +81,10 @@ class Rig:
         return PartStream(part, action, self.clients[part], lambda: self.now, lambda joints: None,
                           self.supervisor.events.put, self.log, debug=lambda *args: None, warn=lambda *args: None)
 
-    @staticmethod
-    def make_base(topic):
-        raise AssertionError("no base in these tests")
+    def make_base(self, topic):
+        self.turns = []  # angular.z of each Twist the base publishes; somebody always listens
+        return BaseStream(topic, self.turns.append, lambda: True, self.log, debug=lambda *args: None,
+                          warn=lambda *args: None)
 
     @staticmethod
     def report_error(where, error):
@@ -107,6 +109,18 @@ class Rig:
 
 def enable(rig, config=CONFIG):
     rig.post(Enable("config.ini", config, TOPICS, threading.Event()))
+
+
+def test_the_watcher_watches_the_base_and_its_listener_reaches_it():
+    rig = Rig()
+    topic = "/pepper_dcm/cmd_moveto"
+    base = rig.supervisor.base_for(topic)
+    assert base in rig.supervisor.controlled_streams() and base not in rig.supervisor.part_streams()
+    rig.post(Enable("file", CONFIG._replace(behaviour=frozenset({"rotation"})), dict(TOPICS, Wheels=topic),
+                    threading.Event()))
+    assert base.state.value == "waiting" and rig.turns == []
+    rig.post(ControllerConnected("Wheels", topic))
+    assert base.state.value == "animating" and len(rig.turns) == 1
 
 
 def test_a_live_change_while_enabled_splices_new_goals_and_is_logged_with_who_asked():

@@ -26,6 +26,7 @@ from cssr_system.animate_behaviour.event_log import BackgroundLog, EventLog, def
 from cssr_system.animate_behaviour.topics import joint_angles_topic
 from cssr_system.package_files import package_dir, package_version
 from cssr_system.ros2.foreign_watch import ForeignCommandWatch, twist_key
+from cssr_system.ros2.graph import subscribed_by_another_node
 from cssr_system.ros2.joint_angles_topic import JointAnglesTopic
 from cssr_system.ros2.parameters import NodeParameters
 from cssr_system.ros2.services import ActivationServices
@@ -69,7 +70,7 @@ class AnimateBehaviourNode:
         self.status = StatusPublisher(node)
         self.supervisor = Supervisor(self.clock, self.log, self._make_part, self._make_base, self.status.publish,
                                      self.joint_states, self.feed, self.report_error)
-        self._watcher = ControllerWatcher(self.supervisor.part_streams, self._post, self.log,
+        self._watcher = ControllerWatcher(self.supervisor.controlled_streams, self._post, self.log,
                                           self.supervisor.stopped, self.report_error)
         self.watch = ForeignCommandWatch(node, self.own_goals, self._post, self.clock, self.report_error,
                                          self._watcher.status_seen)
@@ -120,7 +121,7 @@ class AnimateBehaviourNode:
             twist.angular.z = angular_z
             self.watch.own_twists.sent(twist_key(twist))
             publisher.publish(twist)
-        return BaseStream(topic, turn, self.log)
+        return BaseStream(topic, turn, lambda: subscribed_by_another_node(self.node, topic), self.log)
 
     def _subscribe_joint_states(self) -> Subscription:
         def update(message: JointState) -> None:

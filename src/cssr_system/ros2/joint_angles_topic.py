@@ -6,6 +6,7 @@ import numpy
 from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 
 from cssr_system.animate_behaviour.motion import joint_angle_stream as streaming
+from cssr_system.ros2.graph import subscribed_by_another_node
 from cssr_system.ros2.own_messages import OwnMessages
 from cssr_system.ros2.time_conversion import time_message
 
@@ -36,6 +37,4 @@ class JointAnglesTopic:
 
     def listened(self) -> bool:
         """naoqi_driver2 (any node but this one, which watches the topic for other nodes' calls) subscribes."""
-        own = self._node.get_fully_qualified_name()
-        return any("%s/%s" % (info.node_namespace.rstrip("/"), info.node_name) != own
-                   for info in self._node.get_subscriptions_info_by_topic(self.name))
+        return subscribed_by_another_node(self._node, self.name)

@@ -1,5 +1,6 @@
 """The base's rotation commands on the Wheels topic, as a small state machine driven by the supervisor
-(core/motion_stream.py): ``animating`` turns it, ``homing`` turns it back to its heading at enable.
+(core/motion_stream.py): ``animating`` turns it, ``homing`` turns it back to its heading at enable, ``waiting``
+while nothing listens to the topic (a turn nobody hears would be "undone" by a return that somebody does hear).
 """
 from typing import Callable, Optional
 
@@ -13,12 +14,14 @@ from cssr_system.animate_behaviour.core.motion_stream import MotionStream, Strea
 from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.pepper.joint_table import VELOCITY, base_busy_time, wheels_command_kind
 
-IDLE, ANIMATING, YIELDING, HOMING = StreamState.IDLE, StreamState.ANIMATING, StreamState.YIELDING, StreamState.HOMING
+IDLE, ANIMATING, YIELDING, WAITING, HOMING = (StreamState.IDLE, StreamState.ANIMATING, StreamState.YIELDING,
+                                              StreamState.WAITING, StreamState.HOMING)
 TRANSITIONS = {
-    IDLE: {ANIMATING, YIELDING, HOMING},
-    ANIMATING: {ANIMATING, YIELDING, HOMING, IDLE},
-    YIELDING: {ANIMATING, IDLE},  # another node commands the base: no turn of ours, no return
-    HOMING: {ANIMATING, YIELDING, IDLE},
+    IDLE: {ANIMATING, YIELDING, WAITING, HOMING},
+    ANIMATING: {ANIMATING, YIELDING, WAITING, HOMING, IDLE},
+    YIELDING: {ANIMATING, WAITING, IDLE},  # another node commands the base: no turn of ours, no return
+    WAITING: {ANIMATING, YIELDING, WAITING, IDLE},  # nothing listens to the topic: no turn of ours, no return
+    HOMING: {ANIMATING, YIELDING, WAITING, IDLE},
 }
 
 
@@ -33,13 +36,17 @@ class BaseStream(MotionStream):
     so a turn of another node is never undone.
 
     `turn(angular_z)`: publishes a Twist with that angular z and nothing else (the front-end's publisher, which has
-    it on the wire when it returns)."""
+    it on the wire when it returns); `listened()`: whether a node other than this one (the robot's driver, the
+    simulator) subscribes to the topic, asked by the controller watcher as it asks the part streams' controllers."""
 
-    def __init__(self, topic: str, turn: Callable[[float], None], log,
-                 debug: Callable[..., None] = console.debug) -> None:
+    def __init__(self, topic: str, turn: Callable[[float], None], listened: Callable[[], bool], log,
+                 debug: Callable[..., None] = console.debug, warn: Callable[..., None] = console.warning) -> None:
         super().__init__(WHEELS_KEY, topic, TRANSITIONS, log, debug)
         self.kind = wheels_command_kind(topic)
+        self.connected = False  # somebody listens to the topic (the watcher's controller_connected)
         self._turn = turn
+        self._listened = listened
+        self._warn = warn
         self._foreign_count = 0
         self.planner: Optional[BaseRotationPlanner] = None
         self._step = None
@@ -50,6 +57,14 @@ class BaseStream(MotionStream):
 
     @property
     def topic(self) -> str:
+        return self.controller
+
+    @property
+    def part(self) -> str:  # the controller watcher's names, as a part stream's
+        return self.name
+
+    @property
+    def action(self) -> str:
         return self.controller
 
     def start(self, config: Configuration, style, rng, now: float) -> None:
@@ -65,6 +80,9 @@ class BaseStream(MotionStream):
         if not self.foreign.calm(now):
             self.start_yielding(self.foreign.caller, now, "enabled while another node moves the base")
             return
+        if not self.connected:
+            self.transition_to(WAITING, "enabled; nothing listens to %s yet" % self.topic)
+            return
         self.transition_to(ANIMATING, "enabled")
         if self._step is None:
             self._begin(self.planner.next_step(), now, PURPOSE_ANIMATE)
@@ -79,6 +97,9 @@ class BaseStream(MotionStream):
         if self.state == YIELDING:  # another node commands the base: no return now
             self.yielding_to = ""
             self.transition_to(IDLE, "disabled while yielding; no return")
+            return
+        if self.state == WAITING:
+            self.transition_to(IDLE, "disabled while nothing listens to %s; no return" % self.topic)
             return
         if self.kind == VELOCITY and self._step is not None:
             self._publish(0.0)
@@ -109,6 +130,33 @@ class BaseStream(MotionStream):
                 self.log_yield(caller, TWIST)
                 self.transition_to(IDLE, "%s commands the base; our return is cancelled" % caller)
 
+    def controller_ready(self) -> bool:
+        return self._listened()
+
+    def controller_connected(self) -> None:
+        if self.connected:
+            return
+        self.connected = True
+        self._log.write(contract.CONTROLLER_CONNECTED, part=self.name, action=self.topic)
+        console.info("%s: the base's %s is listened to.", NODE_NAME, self.topic)
+        if self.state == WAITING:  # its first turn at the supervisor's next tick
+            self.transition_to(ANIMATING, "%s listened to" % self.topic)
+
+    def controller_lost(self) -> None:
+        """Nothing listens to the topic any more: a turn under way counts as far as it was sent; the base waits
+        (or, returning, gives up its return)."""
+        if not self.connected:
+            return
+        self.connected = False
+        self._warn("%s: nothing listens to %s any more; the base waits.", NODE_NAME, self.topic)
+        self._log.write(contract.CONTROLLER_LOST, part=self.name, action=self.topic)
+        if self.state == ANIMATING:
+            self._interrupt()
+            self.transition_to(WAITING, "nothing listens to %s" % self.topic)
+        elif self.state == HOMING:
+            self._interrupt()
+            self.transition_to(IDLE, "nothing listens to %s; our return is cancelled" % self.topic)
+
     def _interrupt(self) -> None:
         """Our step ends now: a streamed turn counts as far as it went; a relative turn the robot finishes."""
         if self._step is not None and self.kind == VELOCITY:
@@ -135,8 +183,9 @@ class BaseStream(MotionStream):
             self._step_started = now
         if self.state == YIELDING:
             if self.foreign.calm(now):
-                self.transition_to(ANIMATING, self.stop_yielding(now))
-                self._begin(self.planner.next_step(), now, PURPOSE_ANIMATE)
+                self.transition_to(ANIMATING if self.connected else WAITING, self.stop_yielding(now))
+        if self.state == ANIMATING and self._step is None:  # after a yield, or listened to again
+            self._begin(self.planner.next_step(), now, PURPOSE_ANIMATE)
         elif self._step is not None:
             self._publish_due_samples(now)
             if now >= self._step_ends_at:

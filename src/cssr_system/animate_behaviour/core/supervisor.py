@@ -109,14 +109,21 @@ class Supervisor:
             return self.parts[action]
 
     def base_for(self, topic: str) -> BaseStream:
-        if topic not in self.bases:
-            self.bases[topic] = self._make_base(topic)
-        return self.bases[topic]
+        with self._parts_lock:
+            if topic not in self.bases:
+                self.bases[topic] = self._make_base(topic)
+            return self.bases[topic]
 
     def part_streams(self) -> List[PartStream]:
         """A snapshot of the part streams, from any thread."""
         with self._parts_lock:
             return list(self.parts.values())
+
+    def controlled_streams(self) -> list:
+        """A snapshot of the part streams and the base streams, from any thread: what the controller watcher
+        watches (a controller, naoqi_driver's topic, a Wheels topic listened to)."""
+        with self._parts_lock:
+            return list(self.parts.values()) + list(self.bases.values())
 
     # -- the thread ---------------------------------------------------------------------------------
     def _supervise(self) -> None:
@@ -253,10 +260,16 @@ class Supervisor:
             stream.goal_done(event)
 
     def _on_controller_connected(self, event: ControllerConnected) -> None:
+        if event.action in self.bases:
+            self.bases[event.action].controller_connected()
+            return
         self._feed.listen("controller %s connected" % event.action)
         self.parts[event.action].controller_connected()
 
     def _on_controller_lost(self, event: ControllerLost) -> None:
+        if event.action in self.bases:
+            self.bases[event.action].controller_lost()
+            return
         self._feed.listen("controller %s lost" % event.action)
         self.parts[event.action].controller_lost()
 

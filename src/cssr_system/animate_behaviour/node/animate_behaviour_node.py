@@ -33,7 +33,7 @@ from cssr_system.animate_behaviour.node.parameters import load_node_configuratio
 from cssr_system.animate_behaviour.node.services import ActivationServices
 from cssr_system.animate_behaviour.node.status import StatusPublisher
 from cssr_system.animate_behaviour.node.trajectory_client import TrajectoryClient, rehearse
-from cssr_system.animate_behaviour.rospy_compat import write_at_once
+from cssr_system.animate_behaviour.rospy_compat import has_subscriber_other_than, write_at_once
 from cssr_system.animate_behaviour.topics import joint_angles_topic
 from cssr_system.package_files import package_dir, package_version
 from cssr_system.pepper.joint_table import PARTS
@@ -64,7 +64,7 @@ class AnimateBehaviourNode:
                                      self.joint_states, self.feed, self.report_error, self.action,
                                      self.live_settings.show)
         self.services = ActivationServices(self.supervisor.events.put, self.log)
-        self._watcher = ControllerWatcher(self.supervisor.part_streams, self.supervisor.events.put, self.log,
+        self._watcher = ControllerWatcher(self.supervisor.controlled_streams, self.supervisor.events.put, self.log,
                                           self.supervisor.stopped, self.report_error)
         self.joint_angles: Optional[JointAnglesTopic] = None  # the shared publisher of actuation joint_angles
         self.watch = ForeignCommandWatch(rospy.get_caller_id(), self.supervisor.events.put, self.clock,
@@ -114,7 +114,7 @@ class AnimateBehaviourNode:
             twist = Twist()
             twist.angular.z = angular_z
             publisher.publish(twist)
-        return BaseStream(topic, turn, self.log)
+        return BaseStream(topic, turn, lambda: has_subscriber_other_than(publisher, rospy.get_caller_id()), self.log)
 
     def _subscribe_joint_states(self) -> rospy.Subscriber:
         return rospy.Subscriber(JOINT_STATES_TOPIC, JointState, self.joint_states.update, queue_size=JOINT_STATES_QUEUE)

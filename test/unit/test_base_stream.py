@@ -1,0 +1,113 @@
+"""Unit tests of the base stream (core/base_stream.py) with a fake publisher and clock: it turns only while a node
+other than ours listens to the Wheels topic, and a return turns back only what was heard. No ROS master."""
+import math
+
+import numpy
+from conftest import default_configuration
+from fakes import FakeLog
+
+from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.core.base_stream import BaseStream
+from cssr_system.animate_behaviour.core.motion_stream import StreamState
+from cssr_system.animate_behaviour.motion.styles import MotionStyle
+
+MOVETO = "/pepper_dcm/cmd_moveto"
+VELOCITY = "/pepper/cmd_vel"
+CONFIG = default_configuration(random_seed=5)
+
+
+class Rig:
+    def __init__(self, topic: str, listened: bool) -> None:
+        self.now = 10.0
+        self.turns = []  # angular.z of each Twist published
+        self.listened = listened
+        self.log = FakeLog()
+        self.base = BaseStream(topic, self.turns.append, lambda: self.listened, self.log,
+                               debug=lambda *args: None, warn=lambda *args: None)
+        self.watch()
+
+    def watch(self) -> None:
+        """What the controller watcher does with the answer of `listened()`, then the supervisor's tick."""
+        if self.base.controller_ready():
+            self.base.controller_connected()
+        else:
+            self.base.controller_lost()
+        self.base.tick(self.now)
+
+    def enable(self) -> None:
+        rng = numpy.random.default_rng(5)
+        self.base.start(CONFIG, MotionStyle(CONFIG, rng), rng, self.now)
+        self.base.tick(self.now)
+
+    def run(self, seconds: float, period: float = 0.01) -> None:
+        for _ in range(int(round(seconds / period))):
+            self.now += period
+            self.base.tick(self.now)
+
+    def run_until_turns(self, count: int, seconds: float = 10.0, period: float = 0.01) -> None:
+        while len(self.turns) < count and seconds > 0.0:
+            self.run(period, period)
+            seconds -= period
+
+
+def test_nothing_is_published_while_nobody_listens_and_the_first_turn_leaves_when_somebody_does():
+    rig = Rig(MOVETO, listened=False)
+    rig.enable()
+    rig.run(5.0)
+    assert rig.base.state == StreamState.WAITING
+    assert rig.turns == [] and rig.log.events(contract.BASE_COMMAND) == []
+    rig.listened = True
+    rig.watch()
+    assert rig.base.state == StreamState.ANIMATING
+    assert len(rig.turns) == 1 and rig.log.events(contract.CONTROLLER_CONNECTED) == [
+        {"part": "Wheels", "action": MOVETO}]
+
+
+def test_disabled_while_nobody_ever_listened_the_base_sends_no_return():
+    rig = Rig(MOVETO, listened=False)
+    rig.enable()
+    rig.run(2.0)
+    rig.base.stop(True, rig.now)
+    rig.run(5.0)
+    assert rig.base.state == StreamState.IDLE and rig.turns == []
+
+
+def test_nothing_is_sent_while_nobody_listens():
+    for topic in (MOVETO, VELOCITY):
+        rig = Rig(topic, listened=True)
+        rig.enable()
+        rig.run(0.5)  # the first turn under way (a streamed one is cut short part way)
+        rig.listened = False
+        rig.watch()
+        heard = list(rig.turns)
+        assert rig.base.state == StreamState.WAITING and heard, topic
+        rig.run(10.0)
+        assert rig.turns == heard, topic
+
+
+def test_the_return_turns_back_exactly_the_turns_heard():
+    rig = Rig(MOVETO, listened=True)
+    rig.enable()
+    rig.run(0.5)
+    rig.listened = False
+    rig.watch()
+    rig.run(10.0)
+    rig.listened = True
+    rig.watch()  # a new turn leaves at once
+    rig.base.stop(True, rig.now)
+    rig.run(10.0)  # the return leaves when that turn has ended
+    assert rig.base.state == StreamState.IDLE
+    assert len(rig.turns) == 3 and abs(math.fsum(rig.turns)) < 1e-12
+
+
+def test_losing_the_listener_while_returning_cancels_the_return():
+    rig = Rig(MOVETO, listened=True)
+    rig.enable()
+    rig.run(1.0)
+    rig.base.stop(True, rig.now)
+    rig.run_until_turns(2)  # the first turn and its settle time end, then the return is sent
+    assert rig.base.state == StreamState.HOMING and len(rig.turns) == 2
+    rig.listened = False
+    rig.watch()
+    assert rig.base.state == StreamState.IDLE
+    assert rig.log.events(contract.CONTROLLER_LOST) == [{"part": "Wheels", "action": MOVETO}]
