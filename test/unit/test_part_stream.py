@@ -397,6 +397,21 @@ def test_a_continuous_style_replaces_each_goal_before_it_ends():
     assert rig.stream.next_deadline() != pytest.approx(rig.goal_end_time() - CONTINUATION_LEAD)
 
 
+def test_a_start_planned_ahead_sends_what_enable_would_plan():
+    """The supervisor plans every part's first goal before the first one leaves (plan_start), then enables each."""
+    planned_rig, direct_rig = Rig(), Rig()
+    planned = planned_rig.stream.plan_start(planned_rig.plan)
+    assert planned_rig.client.handles == [] and planned_rig.stream.state == PartState.IDLE, \
+        "planning sends nothing and changes nothing"
+    planned_rig.stream.enable(planned_rig.motion, planned_rig.plan, planned=planned)
+    direct_rig.enable()
+    sent, direct = (rig.client.handles[-1].goal.trajectory.points for rig in (planned_rig, direct_rig))
+    assert planned_rig.stream.state == PartState.ANIMATING and len(planned_rig.client.handles) == 1
+    assert [(p.positions, p.velocities, p.time_from_start) for p in sent] == \
+        [(p.positions, p.velocities, p.time_from_start) for p in direct]
+    assert Rig(connected=False).stream.plan_start(direct_rig.plan) is None, "a part waiting for its controller"
+
+
 def test_a_stop_planned_ahead_sends_what_disable_would_plan():
     """The supervisor plans every part's return goal before the first one leaves (plan_stop), then sends each."""
     planned_rig, direct_rig = Rig(), Rig()

@@ -123,6 +123,17 @@ def test_the_watcher_watches_the_base_and_its_listener_reaches_it():
     assert base.state.value == "animating" and len(rig.turns) == 1
 
 
+def test_every_first_goal_is_planned_before_the_first_one_leaves():
+    rig = Rig()
+    calls = []
+    for part, client in rig.clients.items():
+        client.goal = lambda joints, timed, part=part, build=client.goal: calls.append(("plan", part)) or \
+            build(joints, timed)
+        client.send = lambda goal, done, part=part, send=client.send: calls.append(("send", part)) or send(goal, done)
+    rig.post(Enable("file", CONFIG, TOPICS, threading.Event()))
+    assert calls == [("plan", "RArm"), ("plan", "Leg"), ("send", "RArm"), ("send", "Leg")]
+
+
 def test_a_live_change_while_enabled_splices_new_goals_and_is_logged_with_who_asked():
     rig = Rig()
     enable(rig)

@@ -208,8 +208,9 @@ class JointAngleStream(PartMotionStream):
         return now >= self._followed.end_time - (self._plan.continuation_lead or 0.0)
 
     # -- the stream ---------------------------------------------------------------------------------
-    def _animate(self, why: str) -> None:
-        """Follow the next plan, from the state of the followed one, else from the measured joints."""
+    def _animate(self, why: str, planned=None) -> None:
+        """Follow the next plan, from the state of the followed one, else from the measured joints (`planned` is
+        always None: this stream makes nothing ahead)."""
         now = self._clock()
         start_state = self._current_state(now)
         timed = self._plan(now, *start_state)

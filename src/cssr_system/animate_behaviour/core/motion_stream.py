@@ -76,9 +76,9 @@ class MotionStream:
 
 class PartMotionStream(MotionStream):
     """A part's stream (core/part_stream.py, core/joint_angle_stream.py): how it starts, and what it does when another
-    node moves the part. Subclasses give `_clock`, `connected`, `_animate(why)` (send the next motion from where the
-    part is), `_yield(caller, why)` and `_abandon_home()` (our return to the centre is replaced by the other node's
-    motion), and say in `not_connected` what the part waits for."""
+    node moves the part. Subclasses give `_clock`, `connected`, `_animate(why, planned=None)` (send the next motion from
+    where the part is, or `planned`, made by `_plan_first`), `_yield(caller, why)` and `_abandon_home()` (our return
+    to the centre is replaced by the other node's motion), and say in `not_connected` what the part waits for."""
 
     _command_count = 0  # numbers other nodes' command-topic trajectories
     not_connected = "controller not connected"
@@ -88,9 +88,21 @@ class PartMotionStream(MotionStream):
         better: a joint-angle stream stops from the measured joints)."""
         return True
 
-    def enable(self, motion, plan, quiet_time: float = DEFAULT_QUIET_TIME) -> None:
+    def plan_start(self, plan, quiet_time: float = DEFAULT_QUIET_TIME):
+        """The first motion `enable(motion, plan, quiet_time)` sends at once, made now without sending it (None: it
+        sends none at once, or the stream makes nothing ahead)."""
+        self.foreign.quiet_time = quiet_time
+        if self.state == StreamState.YIELDING or not self.connected or not self.foreign.calm(self._clock()):
+            return None
+        return self._plan_first(plan)
+
+    def _plan_first(self, plan):
+        """`plan_start`'s motion (none by default: a joint-angle stream plans its first call as it streams)."""
+        return None
+
+    def enable(self, motion, plan, quiet_time: float = DEFAULT_QUIET_TIME, planned=None) -> None:
         """Animate `motion` (a motion.waypoints.PartMotion) with the motion from `plan` (a motion.planners.Planner);
-        what runs goes on along the new plan."""
+        what runs goes on along the new plan. `planned`: its first motion, from `plan_start` a moment ago."""
         self.motion = motion
         self._plan = plan
         self.foreign.quiet_time = quiet_time
@@ -99,7 +111,7 @@ class PartMotionStream(MotionStream):
         if not self.foreign.calm(self._clock()):
             self._yield(self.foreign.caller, "enabled while another node moves the part")
         elif self.connected:
-            self._animate("enabled")
+            self._animate("enabled", planned)
         else:
             self.transition_to(StreamState.WAITING, "enabled; %s yet" % self.not_connected)
 

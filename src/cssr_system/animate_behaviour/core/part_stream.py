@@ -91,10 +91,15 @@ class PartStream(PartMotionStream):
         return self.controller
 
     # -- commands from the supervisor ---------------------------------------------------------------
-    def enable(self, motion: PartMotion, plan: Planner, quiet_time: float = DEFAULT_QUIET_TIME) -> None:
-        """Animate `motion` with goals from `plan`; a running goal is replaced smoothly (the controller splices)."""
+    def enable(self, motion: PartMotion, plan: Planner, quiet_time: float = DEFAULT_QUIET_TIME,
+               planned: Optional[OutgoingGoal] = None) -> None:
+        """Animate `motion` with goals from `plan`; a running goal is replaced smoothly (the controller splices).
+        `planned`: the first goal, from `plan_start(plan, quiet_time)` a moment ago (planned now when None)."""
         self.retry_at = None
-        super().enable(motion, plan, quiet_time)
+        super().enable(motion, plan, quiet_time, planned)
+
+    def _plan_first(self, plan: Planner) -> OutgoingGoal:
+        return self._outgoing(PURPOSE_ANIMATE, plan)
 
     def _returns_home(self, home: bool) -> bool:
         """A stop of this part sends a return-to-centre goal (else it cancels, or sends nothing)."""
@@ -276,8 +281,8 @@ class PartStream(PartMotionStream):
             self._animated = False
             self.transition_to(IDLE, why + "; at the centre")
 
-    def _animate(self, why: str) -> None:
-        self._dispatch(self._outgoing(PURPOSE_ANIMATE, self._plan))
+    def _animate(self, why: str, planned: Optional[OutgoingGoal] = None) -> None:
+        self._dispatch(planned or self._outgoing(PURPOSE_ANIMATE, self._plan))
         self._animated = True
         self.transition_to(ANIMATING, why)
 

@@ -317,8 +317,16 @@ class Supervisor:
             if stream.active and (stream.part not in motions or stream.action != topics.get(stream.part)):
                 stream.disable(config.home_on_disable)
         style = MotionStyle(config, self.rng)
-        for key, motion in motions.items():  # the goals first: console lines take milliseconds each
-            self.stream_for(key, topics[key]).enable(motion, style.planner(motion), config.yield_quiet_time)
+        # The goals first (console lines take milliseconds each), each planned before the first one leaves, as at a
+        # disable: once a goal is on the wire, the controllers' replies come in and their threads take turns with
+        # the planning of the other parts. Planner, then plan, part by part: the breathing style draws from `rng` as it
+        # makes its planners, so a seeded run's goals stay the same.
+        starting = []
+        for key, motion in motions.items():
+            stream, plan = self.stream_for(key, topics[key]), style.planner(motion)
+            starting.append((stream, motion, plan, stream.plan_start(plan, config.yield_quiet_time)))
+        for stream, motion, plan, planned in starting:
+            stream.enable(motion, plan, config.yield_quiet_time, planned)
         wheels = self._start_base(config, topics, style)
         self.enabled = True
         self.log.write(contract.BEHAVIOUR_STARTED, behaviour=sorted(config.behaviour), platform=config.platform,
