@@ -7,9 +7,7 @@ Trajectories on a controller's ``joint_trajectory`` topic are always another nod
 Twists on the base topic and setAngles calls on naoqi_driver2's JointAngles topic are another node's unless they
 are ours coming back (ros2/own_messages.py). ROS 2 gives no message its publisher, so the other node is named by
 the topic's publishers other than this node."""
-import threading
-from collections import defaultdict
-from typing import Callable, Dict, Optional, Sequence, Set
+from typing import Callable, Optional, Sequence, Set
 
 import numpy
 from action_msgs.msg import GoalStatus, GoalStatusArray
@@ -18,8 +16,8 @@ from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 from rclpy.qos import qos_profile_action_status_default
 from trajectory_msgs.msg import JointTrajectory
 
-from cssr_system.animate_behaviour.core.events import (ForeignCommand, ForeignGoal, ForeignJointAngles,
-                                                       ForeignResult, ForeignTwist)
+from cssr_system.animate_behaviour.core.events import ForeignCommand, ForeignJointAngles, ForeignTwist
+from cssr_system.animate_behaviour.core.foreign_goals import ForeignGoals
 from cssr_system.animate_behaviour.core.foreign_motion import set_angles_on_our_joints
 from cssr_system.ros2.joint_angles_topic import joint_angles_key
 from cssr_system.ros2.own_messages import OwnMessages
@@ -57,8 +55,7 @@ class ForeignCommandWatch:
         self._status_seen = status_seen
         self.own_twists = OwnMessages()  # the base stream's turns, as they come back
         self.own_calls = OwnMessages()  # the joint-angle streams' calls (ros2/joint_angles_topic.py)
-        self._running: Dict[str, Set[bytes]] = defaultdict(set)  # per action: other clients' goals seen running
-        self._lock = threading.Lock()
+        self._goals = ForeignGoals(post)
         self._subscriptions = []  # kept for the node's life
         self._positions: Callable[[Sequence[str]], Optional[numpy.ndarray]] = lambda joints: None
 
@@ -91,26 +88,12 @@ class ForeignCommandWatch:
         return ",".join(names) or UNKNOWN_NODE
 
     def _on_status(self, message: GoalStatusArray, action: str) -> None:
-        """Posts a ForeignGoal when another client's goal is first seen running, a ForeignResult when it ends
-        (a terminal state, or gone from the list)."""
         self._status_seen(action)
-        listed = set()
-        with self._lock:
-            running = self._running[action]
-            for status in message.status_list:
-                goal_id = bytes(status.goal_info.goal_id.uuid)
-                if goal_id in self._own_goals:
-                    continue
-                listed.add(goal_id)
-                if status.status in RUNNING_STATES and goal_id not in running:
-                    running.add(goal_id)
-                    self._post(ForeignGoal(action, goal_id.hex(), "an action client of %s" % action, None))
-                elif status.status not in RUNNING_STATES and goal_id in running:
-                    running.discard(goal_id)
-                    self._post(ForeignResult(action, goal_id.hex()))
-            for goal_id in running - listed:
-                running.discard(goal_id)
-                self._post(ForeignResult(action, goal_id.hex()))
+        uuids = (bytes(status.goal_info.goal_id.uuid) for status in message.status_list)
+        self._goals.status_list(action, ((uuid.hex(), status.status in RUNNING_STATES)
+                                         for uuid, status in zip(uuids, message.status_list)
+                                         if uuid not in self._own_goals),
+                                lambda goal_id: "an action client of %s" % action)
 
     def _on_trajectory(self, message: JointTrajectory, action: str) -> None:
         topic = trajectory_topic(action)

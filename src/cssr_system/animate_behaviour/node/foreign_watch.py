@@ -8,9 +8,7 @@ connection per topic inside a node, so watching it costs no connection and no th
 starts each goal id with its client's node name, which tells whose goal it is. Trajectories on a
 controller's ``command`` topic, Twists on the base topic and setAngles calls on naoqi_driver's JointAngles topic
 are watched directly; this node's own Twists and calls are recognised by their caller id."""
-import threading
-from collections import defaultdict
-from typing import Callable, Dict, Optional, Sequence, Set
+from typing import Callable, Optional, Sequence
 
 import numpy
 import rospy
@@ -20,8 +18,8 @@ from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 from trajectory_msgs.msg import JointTrajectory
 
 from cssr_system.animate_behaviour.rospy_compat import caller_of, caller_of_goal
-from cssr_system.animate_behaviour.core.events import (ForeignCommand, ForeignGoal, ForeignJointAngles,
-                                                       ForeignResult, ForeignTwist)
+from cssr_system.animate_behaviour.core.events import ForeignCommand, ForeignJointAngles, ForeignTwist
+from cssr_system.animate_behaviour.core.foreign_goals import ForeignGoals
 from cssr_system.animate_behaviour.core.foreign_motion import set_angles_on_our_joints
 from cssr_system.pepper.joint_table import command_topic
 
@@ -44,8 +42,7 @@ class ForeignCommandWatch:
         self._own = own_caller_id
         self._post = post
         self._clock = clock
-        self._running: Dict[str, Set[str]] = defaultdict(set)  # per action: other clients' goals seen running
-        self._lock = threading.Lock()
+        self._goals = ForeignGoals(post)
         self._subscribers = []  # kept for the node's life
         # The measured positions of joints (None when unknown), for how long another node's setAngles call runs.
         self._positions: Callable[[Sequence[str]], Optional[numpy.ndarray]] = lambda joints: None
@@ -78,28 +75,11 @@ class ForeignCommandWatch:
         return guarded
 
     def _on_status(self, message: GoalStatusArray, action: str) -> None:
-        """Posts a ForeignGoal when another client's goal is first seen running, a ForeignResult when it ends
-        (a terminal state, or gone from the list)."""
         if self._status_seen is not None:
             self._status_seen(action)
-        listed = set()
-        with self._lock:
-            running = self._running[action]
-            for status in message.status_list:
-                goal_id = status.goal_id.id
-                if goal_id.startswith(self._own_prefix):
-                    continue
-                listed.add(goal_id)
-                if status.status in RUNNING_STATES:
-                    if goal_id not in running:
-                        running.add(goal_id)
-                        self._post(ForeignGoal(action, goal_id, caller_of_goal(goal_id), None))
-                elif goal_id in running:
-                    running.discard(goal_id)
-                    self._post(ForeignResult(action, goal_id))
-            for goal_id in running - listed:
-                running.discard(goal_id)
-                self._post(ForeignResult(action, goal_id))
+        self._goals.status_list(action, ((status.goal_id.id, status.status in RUNNING_STATES)
+                                         for status in message.status_list
+                                         if not status.goal_id.id.startswith(self._own_prefix)), caller_of_goal)
 
     def _on_command(self, message: JointTrajectory, action: str) -> None:
         caller = caller_of(message)
