@@ -166,3 +166,12 @@ def test_the_switch_thread_applies_requests_without_blocking_the_caller():
     assert not subscribed(made)
     release.set()
     assert wait_for(lambda: subscribed(made) and len(made) == 2)
+
+
+def test_the_switch_starts_subscribed_then_switches_on_its_thread():
+    made = []
+    switch = SubscriptionSwitch(lambda: Subscription(made), None, lambda where, error: None, "joint_states")
+    switch.start()
+    assert subscribed(made), "subscribed when start returns: the first enable plans from the measured joints"
+    switch(False)
+    assert wait_for(lambda: not subscribed(made))

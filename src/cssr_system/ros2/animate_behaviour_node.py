@@ -81,9 +81,7 @@ class AnimateBehaviourNode:
         self.log.write(contract.CONFIGURATION_LOADED, file=config_file, items=configuration_items(config))
         self._choose_actuation(config, topics)
         self.supervisor.set_up(config, topics)
-        self._switch(True)
-        self._switch.apply()  # subscribed before the first enable, which plans from the measured joints
-        self._switch.thread.start()
+        self._switch.start()
         self.supervisor.start()
         self._watcher.thread.start()
         activation = Activation(self._post, self.log, self.parameters.load, lambda: self.parameters.config_file)

@@ -176,6 +176,12 @@ class SubscriptionSwitch:
         self._asked = threading.Event()
         self.thread = threading.Thread(target=self.run, name="joint-state-switch", daemon=True)
 
+    def start(self) -> None:
+        """Subscribes now (the first enable plans from the measured joints), then switches on its own thread."""
+        self(True)
+        self.apply()
+        self.thread.start()
+
     def __call__(self, listening: bool) -> None:
         with self._lock:
             self._wanted = listening

@@ -74,9 +74,7 @@ class AnimateBehaviourNode:
         self.log.write(contract.CONFIGURATION_LOADED, file=config_file, items=configuration_items(config))
         self._choose_actuation(config, topics)
         self.supervisor.set_up(config, topics)
-        self._switch(True)
-        self._switch.apply()  # subscribed before the first enable, which plans from the measured joints
-        self._switch.thread.start()
+        self._switch.start()
         self._rehearse(config, topics)
         self.supervisor.start()
         self._watcher.thread.start()
