@@ -40,6 +40,7 @@ from cssr_system.animate_behaviour.live_settings import PRESETS, SETTING_KEYS
 from cssr_system.animate_behaviour.recording.recording import BASE_LABEL, yaw_from_quaternion
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
+from cssr_system.ros2.graph import endpoint_names
 from cssr_system.ros2.program import on_signals, run_node
 from cssr_system.ros2.status import LATCHED
 
@@ -47,11 +48,6 @@ QUEUE_DEPTH = 100
 NODE_PATH = "/" + contract.NODE_NAME
 EXECUTOR_STOP_TIMEOUT = 2.0  # s
 JOINT_ANGLES_TYPE = "naoqi_bridge_msgs/msg/JointAnglesWithSpeed"  # what the joint_angles actuation streams
-
-
-def endpoint_names(infos) -> set:
-    """Fully qualified node names of a topic's publishers or subscribers."""
-    return {"%s/%s" % (info.node_namespace.rstrip("/"), info.node_name) for info in infos}
 
 
 def call(client, request, timeout: float):

@@ -19,6 +19,7 @@ from trajectory_msgs.msg import JointTrajectory
 from cssr_system.animate_behaviour.core.events import ForeignCommand, ForeignJointAngles, ForeignTwist
 from cssr_system.animate_behaviour.core.foreign_goals import ForeignGoals
 from cssr_system.animate_behaviour.core.foreign_motion import set_angles_on_our_joints
+from cssr_system.ros2.graph import endpoint_names
 from cssr_system.ros2.joint_angles_topic import joint_angles_key
 from cssr_system.ros2.own_messages import OwnMessages
 from cssr_system.ros2.time_conversion import seconds_of
@@ -82,9 +83,8 @@ class ForeignCommandWatch:
 
     def _publisher_of(self, topic: str) -> str:
         """The topic's publishers other than this node (ROS 2 does not say which one sent a message)."""
-        own = self._node.get_fully_qualified_name()
-        names = sorted({"%s/%s" % (info.node_namespace.rstrip("/"), info.node_name)
-                        for info in self._node.get_publishers_info_by_topic(topic)} - {own})
+        names = sorted(endpoint_names(self._node.get_publishers_info_by_topic(topic))
+                       - {self._node.get_fully_qualified_name()})
         return ",".join(names) or UNKNOWN_NODE
 
     def _on_status(self, message: GoalStatusArray, action: str) -> None:

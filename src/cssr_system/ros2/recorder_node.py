@@ -43,6 +43,7 @@ from cssr_system.animate_behaviour.recording.recording import SETTING_KEYS, RunS
 from cssr_system.animate_behaviour.recording.run_recorder import NODE_NAME, RunRecorder, default_output_dir, say
 from cssr_system.animate_behaviour.topics import joint_angles_topic
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
+from cssr_system.ros2.graph import endpoint_names
 from cssr_system.ros2.program import on_signals, run_node
 from cssr_system.ros2.time_conversion import seconds_of
 
@@ -141,8 +142,7 @@ class MessageRecorder(RunRecorder):
 
     def _publisher_of(self, topic: str) -> str:
         """The topic's one publisher; with several, none of them can be told (ROS 2 does not name a message's)."""
-        names = sorted({"%s/%s" % (info.node_namespace.rstrip("/"), info.node_name)
-                        for info in self._node.get_publishers_info_by_topic(topic)})
+        names = sorted(endpoint_names(self._node.get_publishers_info_by_topic(topic)))
         return names[0] if len(names) == 1 else UNKNOWN_NODE
 
 
