@@ -43,7 +43,6 @@ class BaseStream(MotionStream):
                  debug: Callable[..., None] = console.debug, warn: Callable[..., None] = console.warning) -> None:
         super().__init__(WHEELS_KEY, topic, TRANSITIONS, log, debug)
         self.kind = wheels_command_kind(topic)
-        self.connected = False  # somebody listens to the topic (the watcher's controller_connected)
         self._turn = turn
         self._listened = listened
         self._warn = warn
@@ -60,11 +59,7 @@ class BaseStream(MotionStream):
         return self.controller
 
     @property
-    def part(self) -> str:  # the controller watcher's names, as a part stream's
-        return self.name
-
-    @property
-    def action(self) -> str:
+    def action(self) -> str:  # the controller watcher's name, as a part stream's
         return self.controller
 
     def start(self, config: Configuration, style, rng, now: float) -> None:
@@ -134,10 +129,8 @@ class BaseStream(MotionStream):
         return self._listened()
 
     def controller_connected(self) -> None:
-        if self.connected:
+        if not self._connection_changed(True):
             return
-        self.connected = True
-        self._log.write(contract.CONTROLLER_CONNECTED, part=self.name, action=self.topic)
         console.info("%s: the base's %s is listened to.", NODE_NAME, self.topic)
         if self.state == WAITING:  # its first turn at the supervisor's next tick
             self.transition_to(ANIMATING, "%s listened to" % self.topic)
@@ -145,11 +138,9 @@ class BaseStream(MotionStream):
     def controller_lost(self) -> None:
         """Nothing listens to the topic any more: a turn under way counts as far as it was sent; the base waits
         (or, returning, gives up its return)."""
-        if not self.connected:
+        if not self._connection_changed(False):
             return
-        self.connected = False
         self._warn("%s: nothing listens to %s any more; the base waits.", NODE_NAME, self.topic)
-        self._log.write(contract.CONTROLLER_LOST, part=self.name, action=self.topic)
         if self.state == ANIMATING:
             self._interrupt()
             self.transition_to(WAITING, "nothing listens to %s" % self.topic)

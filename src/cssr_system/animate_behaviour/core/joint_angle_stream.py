@@ -75,7 +75,6 @@ class JointAngleStream(PartMotionStream):
         super().__init__(part, topic.name, TRANSITIONS, log, debug)
         self.action = action  # the topic file's name of the part: the supervisor's key of this stream
         self.topic = topic
-        self.connected = False
         self.motion: Optional[PartMotion] = None
         self._clock = clock
         self._positions = positions
@@ -88,10 +87,6 @@ class JointAngleStream(PartMotionStream):
         self._goal_number = 0  # numbers the planned trajectories, as a goal stream numbers its goals
         self._summary_since: Optional[float] = None
         self._summary_messages = 0
-
-    @property
-    def part(self) -> str:
-        return self.name
 
     @property
     def joints(self) -> tuple:
@@ -138,21 +133,17 @@ class JointAngleStream(PartMotionStream):
         return self.topic.listened()
 
     def controller_connected(self) -> None:
-        if self.connected:
+        if not self._connection_changed(True):
             return
-        self.connected = True
-        self._log.write(contract.CONTROLLER_CONNECTED, part=self.name, action=self.controller)
         console.info("%s: %s listens to %s.", NODE_NAME, self.name, self.controller)
         if self.state == WAITING:
             self._animate("naoqi_driver listening")
 
     def controller_lost(self) -> None:
         """Nobody listens to the topic any more: the stream pauses and starts again from the measured joints."""
-        if not self.connected:
+        if not self._connection_changed(False):
             return
-        self.connected = False
         self._warn("%s: nobody listens to %s any more; %s waits.", NODE_NAME, self.controller, self.name)
-        self._log.write(contract.CONTROLLER_LOST, part=self.name, action=self.controller)
         self._stop_streaming(self._clock())
         if self.state in (ANIMATING, WAITING):
             self.transition_to(WAITING, "naoqi_driver gone")

@@ -34,12 +34,27 @@ class MotionStream:
         self.name = name
         self.controller = controller
         self.state = StreamState.IDLE
+        self.connected = False  # its controller (or its topic's listener) is there, as the controller watcher says
         self.foreign = ForeignMotionTracker()  # other nodes' motion on this controller or topic
         self.yielding_to = ""  # the caller id of the node we yield to
         self._transitions = transitions
         self._log = log
         self._debug = debug
         self._yield_started = 0.0
+
+    @property
+    def part(self) -> str:  # the part key (the wheels key for the base), as the watcher and the status name it
+        return self.name
+
+    def _connection_changed(self, connected: bool) -> bool:
+        """The controller watcher says the controller (or the topic's listener) is there, or gone: False when that
+        is no news; else `connected` is set and the log has its controller_connected or controller_lost line."""
+        if connected == self.connected:
+            return False
+        self.connected = connected
+        self._log.write(contract.CONTROLLER_CONNECTED if connected else contract.CONTROLLER_LOST, part=self.name,
+                        action=self.controller)
+        return True
 
     def transition_to(self, new_state: StreamState, why: str) -> None:
         if new_state not in self._transitions[self.state]:
@@ -76,7 +91,7 @@ class MotionStream:
 
 class PartMotionStream(MotionStream):
     """A part's stream (core/part_stream.py, core/joint_angle_stream.py): how it starts, and what it does when another
-    node moves the part. Subclasses give `_clock`, `connected`, `_animate(why, planned=None)` (send the next motion from
+    node moves the part. Subclasses give `_clock`, `_animate(why, planned=None)` (send the next motion from
     where the part is, or `planned`, made by `_plan_first`), `_yield(caller, why)` and `_abandon_home()` (our return
     to the centre is replaced by the other node's motion), and say in `not_connected` what the part waits for."""
 
@@ -92,9 +107,11 @@ class PartMotionStream(MotionStream):
         """The first motion `enable(motion, plan, quiet_time)` sends at once, made now without sending it (None: it
         sends none at once, or the stream makes nothing ahead)."""
         self.foreign.quiet_time = quiet_time
-        if self.state == StreamState.YIELDING or not self.connected or not self.foreign.calm(self._clock()):
-            return None
-        return self._plan_first(plan)
+        return self._plan_first(plan) if self._moves_at_enable() else None
+
+    def _moves_at_enable(self) -> bool:
+        """An enable now sends a motion at once: no other node's motion to yield to, and the controller there."""
+        return self.state != StreamState.YIELDING and self.connected and self.foreign.calm(self._clock())
 
     def _plan_first(self, plan):
         """`plan_start`'s motion (none by default: a joint-angle stream plans its first call as it streams)."""
@@ -108,10 +125,10 @@ class PartMotionStream(MotionStream):
         self.foreign.quiet_time = quiet_time
         if self.state == StreamState.YIELDING:
             return
-        if not self.foreign.calm(self._clock()):
-            self._yield(self.foreign.caller, "enabled while another node moves the part")
-        elif self.connected:
+        if self._moves_at_enable():
             self._animate("enabled", planned)
+        elif not self.foreign.calm(self._clock()):
+            self._yield(self.foreign.caller, "enabled while another node moves the part")
         else:
             self.transition_to(StreamState.WAITING, "enabled; %s yet" % self.not_connected)
 

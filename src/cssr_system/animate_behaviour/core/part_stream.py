@@ -66,7 +66,6 @@ class PartStream(PartMotionStream):
                  debug: Callable[..., None] = console.debug, warn: Callable[..., None] = console.warning) -> None:
         super().__init__(part, action, TRANSITIONS, log, debug)
         self.client = client
-        self.connected = False
         self.motion: Optional[PartMotion] = None
         self.retry_at: Optional[float] = None
         self._clock = clock
@@ -81,10 +80,6 @@ class PartStream(PartMotionStream):
         # Goals that have not reported their end, replaced and cancelled ones too: holding their handles keeps
         # their transitions coming, so every goal's final state reaches the log.
         self._unfinished: "OrderedDict[int, RunningGoal]" = OrderedDict()
-
-    @property
-    def part(self) -> str:
-        return self.name
 
     @property
     def action(self) -> str:
@@ -185,10 +180,8 @@ class PartStream(PartMotionStream):
         return self.client.ready()
 
     def controller_connected(self) -> None:
-        if self.connected:
+        if not self._connection_changed(True):
             return
-        self.connected = True
-        self._log.write(contract.CONTROLLER_CONNECTED, part=self.part, action=self.action)
         console.info("%s: controller %s connected.", NODE_NAME, self.action)
         if self.state == WAITING and self.retry_at is None:
             self._animate("controller connected")
@@ -196,13 +189,11 @@ class PartStream(PartMotionStream):
     def controller_lost(self) -> None:
         """The controller went away (its server no longer answers): our goal is gone with it. The part waits
         and animates again from the measured joints as soon as the controller is back."""
-        if not self.connected:
+        if not self._connection_changed(False):
             return
-        self.connected = False
         self._sent = None
         self.retry_at = None
         self._warn("%s: controller %s is gone; %s waits for it.", NODE_NAME, self.action, self.part)
-        self._log.write(contract.CONTROLLER_LOST, part=self.part, action=self.action)
         if self.state in (ANIMATING, WAITING):
             self.transition_to(WAITING, "controller gone")
         elif self.state == HOMING:
