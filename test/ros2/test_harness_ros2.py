@@ -12,6 +12,7 @@ import os
 import signal
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy
@@ -22,6 +23,8 @@ pytest.importorskip("cssr_system_interfaces.srv")
 # The simulated Pepper publishes odometry and the harness records it.
 pytest.importorskip("nav_msgs.msg", reason="nav_msgs (PyPI: ros-nav-msgs) is not installed in the ROS 2 venv")
 
+from cssr_system.animate_behaviour import contract  # noqa: E402
+from cssr_system.animate_behaviour.event_log import read_log  # noqa: E402
 from cssr_system.animate_behaviour.harness import checks, oracle, report, session, settings  # noqa: E402
 from cssr_system.animate_behaviour.harness.session import HarnessError  # noqa: E402
 from cssr_system.animate_behaviour.motion import report as motion_report  # noqa: E402
@@ -33,6 +36,9 @@ CONFIGURATION = Path(__file__).resolve().parents[1] / "harnessTestConfiguration.
 # Two runs, one after the other, each on a domain of its own (valid ids: 0..101).
 DOMAINS = (1 + (os.getpid() + 17) % 100, 1 + (os.getpid() + 67) % 100)
 EXIT_TIMEOUT = 15.0
+READY_TIMEOUT = 30.0  # s for the node to find the simulated Pepper's controllers and topics (ROS 2 discovery)
+SIMULATOR_PARTS = {"RArm", "LArm", "Leg", "Wheels"}  # the simulator platform has no hand controllers
+ROBOT_PARTS = SIMULATOR_PARTS | {"RHand", "LHand"}
 # The recorded motion may be this much rougher than the plan's (rms jerk, rad/s^3): the node's random positions are
 # not the plan's, and resampling the recorded samples onto motion.report's even grid adds a little.
 JERK_FACTOR = 3.0
@@ -70,13 +76,32 @@ def stop(process: subprocess.Popen):
 class Robot:
     """The simulated Pepper and the node on one domain; a harness per harness configuration."""
 
-    def __init__(self, folder: Path, domain: int, simulator: tuple, node: tuple) -> None:
+    def __init__(self, folder: Path, domain: int, simulator: tuple, node: tuple, parts: set) -> None:
         self.folder, self.domain = folder, domain
         self.log_file = folder / "animateBehaviour.log"
         self.outputs = (folder / "simulated_pepper.out", folder / "animate_behaviour.out")
         self.processes = [start("cssr_system.ros2.simulated_pepper_node", domain, self.outputs[0], *simulator),
                           start("cssr_system.ros2.animate_behaviour_main", domain, self.outputs[1],
                                 "logFile:=%s" % self.log_file, *node)]
+        self.wait_until_connected(parts)
+
+    def wait_until_connected(self, parts: set) -> None:
+        """Until the node has found the simulated Pepper behind every part and the base topic, before any harness
+        runs: discovery may take seconds, and the harness's own subscription to the base topic must not be what
+        the node finds there."""
+        deadline = time.monotonic() + READY_TIMEOUT
+        while self.connected_parts() < parts:
+            if time.monotonic() > deadline:
+                self.close()
+                pytest.fail("the node found only {} of {} in {:g} s\n{}".format(
+                    sorted(self.connected_parts()), sorted(parts), READY_TIMEOUT, self.output()))
+            time.sleep(0.05)
+
+    def connected_parts(self) -> set:
+        if not self.log_file.exists():
+            return set()
+        return {entry.fields["part"] for entry in read_log(str(self.log_file))
+                if entry.event == contract.CONTROLLER_CONNECTED}
 
     def run(self, test: str, harness_class=Ros2Harness, **overrides):
         """(the harness's outcome of `test`, its harness configuration, the harness) with `overrides` of the
@@ -103,7 +128,7 @@ class Robot:
 @pytest.fixture(scope="module")
 def simulator(tmp_path_factory):
     robot = Robot(tmp_path_factory.mktemp("simulator"), DOMAINS[0], ("platform:=simulator",) + SIMULATOR,
-                  ("platform:=simulator",))
+                  ("platform:=simulator",), SIMULATOR_PARTS)
     yield robot
     assert robot.close() == [0, 0], robot.output()
 
@@ -178,7 +203,7 @@ def test_a_node_that_moves_too_far_fails_and_the_harness_says_where(simulator):
 
 def test_joint_angles_actuation_passes_every_check(tmp_path):
     robot = Robot(tmp_path, DOMAINS[1], ("platform:=robot", "driver:=naoqi_driver") + SIMULATOR,
-                  ("platform:=robot", "actuation:=joint_angles"))
+                  ("platform:=robot", "actuation:=joint_angles"), ROBOT_PARTS)
     try:
         outcome, config, harness = robot.run("all", platform="robot", actuation="joint_angles")
     finally:
