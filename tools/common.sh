@@ -19,6 +19,19 @@ fi
 
 log_step() { printf '\n==> %s\n' "$*"; }
 
+# Installs those of the given Debian packages that are not installed yet (as root, or through sudo).
+install_missing() {
+  local missing=() package sudo_cmd=()
+  for package in "$@"; do
+    dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q 'install ok installed' || missing+=("$package")
+  done
+  [ ${#missing[@]} -gt 0 ] || return 0
+  log_step "installing ${missing[*]}"
+  [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
+  "${sudo_cmd[@]}" apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+}
+
 source_workspace() {
   # ROS's setup scripts read unset variables: source them with -u off.
   local nounset=0

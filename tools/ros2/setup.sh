@@ -62,27 +62,13 @@ pick_python() {
 }
 
 # The compilers and build tool of the interface packages, from Debian's packages where missing.
-missing=()
-for package in cmake g++ ninja-build; do
-  dpkg-query -W -f='${Status}' "$package" 2>/dev/null | grep -q 'install ok installed' || missing+=("$package")
-done
-if [ ${#missing[@]} -gt 0 ]; then
-  log_step "installing ${missing[*]}"
-  sudo_cmd=()
-  [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
-  "${sudo_cmd[@]}" apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
-fi
+install_missing cmake g++ ninja-build
 
 # Debian 12's own 3.11 serves where pyenv has none (its headers and venv module from Debian's packages). Where no
 # Python the wheels support can be had (Ubuntu 20.04's newest is 3.8), exit status 3: the ROS 2 side is skipped.
 if ! python=$(pick_python 2>/dev/null) && [ -z "${CSSR_ROS2_PYTHON:-}" ] \
     && apt-cache show python3.11-dev python3.11-venv > /dev/null 2>&1; then
-  log_step "installing python3.11-dev python3.11-venv"
-  sudo_cmd=()
-  [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
-  DEBIAN_FRONTEND=noninteractive "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends python3.11-dev \
-    python3.11-venv
+  install_missing python3.11-dev python3.11-venv
 fi
 python=$(pick_python) || exit 3
 # Everything below runs without ROS 1: its PYTHONPATH, CMAKE_PREFIX_PATH and the like would be found by CMake and
