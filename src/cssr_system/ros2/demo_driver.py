@@ -41,26 +41,13 @@ from cssr_system.animate_behaviour.recording.recording import BASE_LABEL, yaw_fr
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
 from cssr_system.ros2.graph import endpoint_names
-from cssr_system.ros2.program import on_signals, run_node
+from cssr_system.ros2.program import call, on_signals, run_node
 from cssr_system.ros2.status import LATCHED
 
 QUEUE_DEPTH = 100
 NODE_PATH = "/" + contract.NODE_NAME
 EXECUTOR_STOP_TIMEOUT = 2.0  # s
 JOINT_ANGLES_TYPE = "naoqi_bridge_msgs/msg/JointAnglesWithSpeed"  # what the joint_angles actuation streams
-
-
-def call(client, request, timeout: float):
-    """The reply to `request` on `client` within `timeout` s (an executor spins the node); TimeoutError if none."""
-    if not client.wait_for_service(timeout_sec=timeout):
-        raise TimeoutError("the service is not available")
-    done = threading.Event()
-    future = client.call_async(request)
-    future.add_done_callback(lambda _: done.set())
-    if not done.wait(timeout):
-        future.cancel()  # a late reply is dropped
-        raise TimeoutError("no reply within %g s" % timeout)
-    return future.result()
 
 
 class DemoDriver(DemoRun):

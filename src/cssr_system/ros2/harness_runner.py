@@ -39,6 +39,7 @@ from cssr_system.animate_behaviour.harness.session import (CONFIG_FILE_NAME, NOD
                                                            REPORT_FILE_NAME, HarnessError)
 from cssr_system.package_files import data_dir, package_dir, package_path
 from cssr_system.ros2.parameters import START_UP_KEYS, declared_value
+from cssr_system.ros2.program import call
 from cssr_system.ros2.time_conversion import seconds_of
 
 NODE_NAME = "animateBehaviourTest"
@@ -139,14 +140,10 @@ class Ros2Harness(session.NodeLink):
 
     def _call(self, client, request, timeout: float = CALL_TIMEOUT):
         """The response, or None when there is none within `timeout`."""
-        if not client.wait_for_service(timeout_sec=timeout):
+        try:
+            return call(client, request, timeout)
+        except TimeoutError:
             return None
-        future = client.call_async(request)
-        done = threading.Event()
-        future.add_done_callback(lambda _future: done.set())
-        if not done.wait(timeout):
-            return None
-        return future.result()
 
     # -- session.NodeLink ------------------------------------------------------------------------
     def request(self, state: str) -> str:

@@ -1,8 +1,9 @@
 """How the package's ROS 2 programs start and end: rclpy without its own signal handlers (they would shut the
 context down before a program has stopped the robot, ended its goals or written its recording), one node, and a
-malformed command line said in one line."""
+malformed command line said in one line; and how they wait for a service's reply."""
 import signal
 import sys
+import threading
 from typing import Callable, List, Optional
 
 import rclpy
@@ -14,6 +15,19 @@ def on_signals(handler: Callable[[str], None]) -> None:
     """`handler(name)` on SIGINT and SIGTERM, instead of rclpy's."""
     for number in (signal.SIGINT, signal.SIGTERM):
         signal.signal(number, lambda received, _frame: handler(signal.Signals(received).name))
+
+
+def call(client, request, timeout: float):
+    """The reply to `request` on `client` within `timeout` s (an executor spins the node); TimeoutError if none."""
+    if not client.wait_for_service(timeout_sec=timeout):
+        raise TimeoutError("the service is not available")
+    done = threading.Event()
+    future = client.call_async(request)
+    future.add_done_callback(lambda _: done.set())
+    if not done.wait(timeout):
+        future.cancel()  # a late reply is dropped
+        raise TimeoutError("no reply within %g s" % timeout)
+    return future.result()
 
 
 def run_node(name: str, args: Optional[List[str]], body: Callable[[Node], int], failure: int = 1) -> int:
