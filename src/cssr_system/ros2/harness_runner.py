@@ -42,7 +42,7 @@ from cssr_system.ros2.parameters import START_UP_KEYS, declared_value
 from cssr_system.ros2.program import call
 from cssr_system.ros2.time_conversion import seconds_of
 
-NODE_NAME = "animateBehaviourTest"
+NODE_NAME = session.HARNESS_NAME
 SERVICE_TIMEOUT = 30.0  # s to wait for the node's services
 CALL_TIMEOUT = 5.0  # s for a reply
 JOINT_STATES_TIMEOUT = 10.0  # s to wait for the robot's first /joint_states
@@ -234,9 +234,7 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     finally:
         if harness is not None:
             harness.close()
-    print("{}: {}; report: {}".format(NODE_NAME, "all tests PASSED" if passed else "some tests FAILED",
-                                      arguments.report), flush=True)
-    return 0 if passed else 1
+    return session.verdict(passed, arguments.report)
 
 
 if __name__ == "__main__":

@@ -41,7 +41,7 @@ from cssr_system.animate_behaviour.harness.session import (CONFIG_FILE_NAME, NOD
 from cssr_system.package_files import PACKAGE_NAME, data_dir, package_dir, package_path
 from cssr_system.srv import setActivation
 
-NODE_NAME = "animateBehaviourTest"
+NODE_NAME = session.HARNESS_NAME
 HARNESS_PARAMETERS = ("configFile", "reportFile", "nodeName", "nodeConfigFile", "nodeLogFile", "odometryTopic",
                       "interactive")
 SERVICE_TIMEOUT = 30.0  # s to wait for the node's service
@@ -262,6 +262,4 @@ def main() -> int:
     finally:
         if harness is not None:
             harness.finish()
-    print("{}: {}; report: {}".format(NODE_NAME, "all tests PASSED" if passed else "some tests FAILED",
-                                      harness.report_file), flush=True)
-    return 0 if passed else 1
+    return session.verdict(passed, harness.report_file)

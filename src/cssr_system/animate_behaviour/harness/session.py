@@ -23,6 +23,7 @@ from cssr_system.animate_behaviour.recording.recording import unwrap_heading, ya
 from cssr_system.animate_behaviour.topics import WHEELS_KEY, TopicFileError, load_topic_map
 from cssr_system.pepper.joint_table import RELATIVE, wheels_command_kind
 
+HARNESS_NAME = "animateBehaviourTest"  # the harness's node, on either ROS
 POLL_PERIOD = 0.05  # s between looks at the samples while waiting
 CONFIG_FILE_NAME = "animateBehaviourTestConfiguration.ini"  # the harness configuration, in config/
 REPORT_FILE_NAME = "animateBehaviourTestOutput.dat"
@@ -133,6 +134,13 @@ def read_node_log(path: str, since: float) -> Tuple[List[LogEntry], str]:
     except (OSError, ValueError) as error:
         return entries, "cannot read the node's log {}: {}".format(path, error)
     return entries, ""
+
+
+def verdict(passed: bool, report_file: str) -> int:
+    """The harness's last line, and its exit status: 0 when every test passed, 1 when one failed."""
+    print("{}: {}; report: {}".format(HARNESS_NAME, "all tests PASSED" if passed else "some tests FAILED",
+                                      report_file), flush=True)
+    return 0 if passed else 1
 
 
 def append_report(path: str, text: str) -> None:
