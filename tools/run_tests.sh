@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite: installs what is missing, builds the workspace and the ROS 2 side, then runs the static
-# checks, the unit tests (pytest), the system tests, the integration tests (rostest) and, beside them, the ROS 2
-# tests (pytest in the ROS 2 environment), and ends with `N passed, N failed`.
+# checks and the unit tests (pytest), then the system tests and the integration tests (rostest) in three lanes
+# (tools/run_test_job.sh) and, beside them, the ROS 2 tests (pytest in the ROS 2 environment), and ends with
+# `N passed, N failed`.
 # Exits non-zero when any test fails or does not run.
 set -uo pipefail
 source "$(dirname "$0")/common.sh"
@@ -45,9 +46,6 @@ elif [ "$ros2_status" != 0 ]; then
   tail -n 40 "$RESULTS_DIR/ros2-setup.out"; echo "the ROS 2 side could not be made"; exit 1
 fi
 
-log_step "system tests: the commands and the README (pytest)"
-python3 -m pytest test/system -q -p no:cacheprovider --junitxml="$RESULTS_DIR/system.xml"
-
 expected=(checksums.xml unit.xml unit-python38.xml system.xml check-python38.xml check-catkin-lint.xml check-flake8.xml
           check-complexity.xml ros2.xml)
 # The ROS 2 tests run beside the rostests (both mostly wait for their nodes), each on a ROS 2 domain of its own.
@@ -62,20 +60,17 @@ else
   ros2_tests=
 fi
 rostests=(test/*.test)
-# The longest first (about two minutes each; most of a rostest's time is waiting), so the rest fill in beside them.
-longest=(test/animate_behaviour_robot.test test/controller_verdicts_12hz.test test/controller_verdicts_50hz.test)
-if [ -e "${rostests[0]}" ]; then
-  log_step "integration tests (rostest, three at a time: each has its own master, port and ROS_HOME files)"
-  { printf '%s\n' "${longest[@]}"; printf '%s\n' "${rostests[@]}" | grep -vxF -f <(printf '%s\n' "${longest[@]}"); } |
-    xargs -P 3 -I{} sh -c \
-    'out="$1/rostest/$(basename "$2" .test).out"
-     rostest --results-base-dir "$1/rostest" cssr_system "$(basename "$2")" > "$out" 2>&1 \
-       && echo "  $2: ok" || { echo "  $2: FAILED (output: $out)"; tail -n 30 "$out"; }' \
-    _ "$RESULTS_DIR" {}
-  for file in "${rostests[@]}"; do
-    expected+=("rostest-test_$(basename "$file" .test).xml")
-  done
-fi
+for file in "${rostests[@]}"; do
+  expected+=("rostest-test_$(basename "$file" .test).xml")
+done
+# Three lanes, the longest jobs first (most of their time is waiting for nodes), so the rest fill in beside them: the
+# system tests, one job (they build in the workspace one after the other; the rostests read nothing that a build
+# rewrites), and each rostest with its own master, port and ROS_HOME files.
+longest=(test/system test/animate_behaviour_robot.test test/controller_verdicts_12hz.test
+         test/controller_verdicts_50hz.test)
+log_step "system tests (pytest) and integration tests (rostest), three at a time (output: $RESULTS_DIR/rostest/)"
+{ printf '%s\n' "${longest[@]}"; printf '%s\n' "${rostests[@]}" | grep -vxF -f <(printf '%s\n' "${longest[@]}"); } |
+  xargs -P 3 -I{} bash tools/run_test_job.sh "$RESULTS_DIR" {}
 
 if [ -n "$ros2_tests" ]; then
   wait "$ros2_tests" && echo "  test/ros2: ok" || { echo "  test/ros2: FAILED"; tail -n 40 "$RESULTS_DIR/ros2.out"; }

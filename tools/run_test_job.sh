@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# One job of tools/run_tests.sh's lanes: RESULTS_DIR and either test/system (the system tests, pytest) or a rostest
+# file (test/NAME.test). Its output goes to RESULTS_DIR/rostest/NAME.out, its JUnit results below RESULTS_DIR; prints
+# one line, `ok` or `FAILED` with the output's last lines.
+set -uo pipefail
+results_dir=$1
+job=$2
+name=$(basename "$job" .test)
+out="$results_dir/rostest/$name.out"
+if [ "$job" = test/system ]; then
+  python3 -m pytest test/system -q -p no:cacheprovider --junitxml="$results_dir/system.xml" > "$out" 2>&1
+else
+  rostest --results-base-dir "$results_dir/rostest" cssr_system "$name.test" > "$out" 2>&1
+fi
+if [ $? = 0 ]; then
+  echo "  $job: ok"
+else
+  echo "  $job: FAILED (output: $out)"
+  tail -n 30 "$out"
+fi
