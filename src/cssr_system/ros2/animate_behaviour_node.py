@@ -14,7 +14,7 @@ from cssr_system.animate_behaviour.configuration import JOINT_ANGLES_ACTUATION, 
 from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC, NODE_NAME
 from cssr_system.animate_behaviour.core.activation import Activation
 from cssr_system.animate_behaviour.core.base_stream import BaseStream
-from cssr_system.animate_behaviour.core.console import console
+from cssr_system.animate_behaviour.core.console import HEARTBEAT_PERIOD, console
 from cssr_system.animate_behaviour.core.controller_watcher import ControllerWatcher
 from cssr_system.animate_behaviour.core.events import Shutdown
 from cssr_system.animate_behaviour.core.joint_angle_stream import JointAngleStream
@@ -34,7 +34,6 @@ from cssr_system.ros2.status import StatusPublisher
 from cssr_system.ros2.time_conversion import clock_seconds, seconds_of
 from cssr_system.ros2.trajectory_client import TrajectoryClient
 
-HEARTBEAT_PERIOD = 10.0  # s between "running." lines on the console
 JOINT_STATES_QUEUE = 1  # only the latest /joint_states message matters
 BASE_QUEUE = 10
 

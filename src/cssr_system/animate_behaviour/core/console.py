@@ -7,6 +7,7 @@ from cssr_system.animate_behaviour.contract import NODE_NAME
 
 console = logging.getLogger(NODE_NAME)
 console.setLevel(logging.INFO)
+HEARTBEAT_PERIOD = 10.0  # s between "running." lines (README: "Log file", the console)
 
 
 def set_verbose(verbose: bool) -> None:
@@ -38,3 +39,22 @@ def route_console(emit) -> None:
     _routes.append(ForwardingHandler(emit))
     console.addHandler(_routes[-1])
     console.propagate = False
+
+
+class Heartbeat:
+    """The console's "running." line every HEARTBEAT_PERIOD s, said by a loop that wakes at least once a second
+    anyway (the ROS 1 program's main loop: a timer would be a thread of its own). `clock`: seconds, monotonic."""
+
+    def __init__(self, clock, period: float = HEARTBEAT_PERIOD) -> None:
+        self._clock = clock
+        self._period = period
+        self._due = clock() + period
+
+    def beat(self) -> None:
+        """Says "running." when a period has passed since the last line (once, however long the wait was)."""
+        now = self._clock()
+        if now >= self._due:
+            console.info("%s: running.", NODE_NAME)
+            self._due += self._period
+            if self._due <= now:  # a wait longer than a period: the next line a period from now
+                self._due = now + self._period

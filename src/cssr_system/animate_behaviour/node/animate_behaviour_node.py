@@ -12,7 +12,7 @@ from sensor_msgs.msg import JointState
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import JOINT_ANGLES_ACTUATION, Configuration, configuration_items
-from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC, NODE_NAME
+from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC
 from cssr_system.animate_behaviour.core.base_stream import BaseStream
 from cssr_system.animate_behaviour.core.console import console
 from cssr_system.animate_behaviour.core.controller_watcher import ControllerWatcher
@@ -38,7 +38,6 @@ from cssr_system.animate_behaviour.topics import joint_angles_topic
 from cssr_system.package_files import package_dir, package_version
 from cssr_system.pepper.joint_table import PARTS
 
-HEARTBEAT_PERIOD = 10.0  # s between "running." lines on the console
 JOINT_STATES_QUEUE = 1  # only the latest /joint_states message matters
 
 
@@ -81,7 +80,6 @@ class AnimateBehaviourNode:
         self.live_settings.start(config)
         self.action.start()
         self.services.advertise()
-        rospy.Timer(rospy.Duration(HEARTBEAT_PERIOD), lambda _event: rospy.loginfo("%s: running.", NODE_NAME))
 
     def _post(self, event) -> None:
         self.supervisor.events.put(event)

@@ -12,6 +12,7 @@ import os
 import signal
 import sys
 import threading
+import time
 from typing import Callable, List, Optional
 
 import rospy
@@ -19,7 +20,7 @@ import rospy
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import ConfigurationError
 from cssr_system.animate_behaviour.contract import NODE_NAME
-from cssr_system.animate_behaviour.core.console import route_console
+from cssr_system.animate_behaviour.core.console import Heartbeat, route_console
 from cssr_system.animate_behaviour.node.parameters import (config_file_parameter, load_node_configuration,
                                                            parameter_overrides)
 from cssr_system.animate_behaviour.node.animate_behaviour_node import AnimateBehaviourNode
@@ -108,8 +109,10 @@ def main(argv: Optional[List[str]] = None) -> int:
     gc.freeze()
 
     status = 0
+    heartbeat = Heartbeat(time.monotonic)
     while not stopper.requested.is_set() and not rospy.is_shutdown():
         wakeup.wait(ALIVE_CHECK_PERIOD)
+        heartbeat.beat()
         if not stopper.requested.is_set() and not node.stopped and not node.supervisor_alive():
             print("{}: the supervisor thread has ended; stopping the robot and exiting.".format(NODE_NAME),
                   file=sys.stderr, flush=True)
