@@ -8,7 +8,7 @@ import sys
 
 REPO_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 sys.path.insert(0, os.path.join(REPO_DIR, "test", "benchmark"))
-from benchmark import COLD_FIRST_GOAL, EXITS, TARGETS  # noqa: E402
+from benchmark import COLD_FIRST_GOAL, EXITS, TARGETS, Target, target_text, verdict  # noqa: E402
 
 ALWAYS_MEASURED = [target.name for target in TARGETS if target.name != "zero twist after disabled"]
 REFERENCE_MEASURED = ["setActivation enabled reply", "setActivation disabled reply",
@@ -38,8 +38,7 @@ def test_a_short_benchmark_reports_every_figure_beside_the_reference_and_its_tar
     with open(output) as stream:
         section = json.load(stream)["robot"]
     for target in TARGETS:
-        assert section["targets"][target.name] == {"unit": target.unit, "p90": target.p90, "max": target.max,
-                                                   "mean": target.mean}
+        assert section["targets"][target.name] == target.as_dict()
     for subject, names in (("node", ALWAYS_MEASURED), ("reference", REFERENCE_MEASURED)):
         for name in names:
             figure = section["figures"][subject][name]
@@ -72,3 +71,22 @@ def test_make_benchmark_writes_the_latest_table_into_the_repository():
     assert '--markdown "$REPO_DIR/doc/benchmark-latest.md"' in script
     with open(os.path.join(REPO_DIR, "doc", "benchmark-latest.md")) as stream:
         assert "| figure | target |" in stream.read()
+
+
+def test_a_target_set_against_the_reference_is_met_within_its_margin_of_the_references_mean():
+    target = Target("CPU while disabled", "% of a core", above_reference=0.2)
+    assert target_text(target) == "mean<=ref+0.2"
+
+    def figure(mean):
+        return {"p50": mean, "p90": mean, "max": mean, "mean": mean, "samples": 4}
+    assert verdict(target, figure(0.75), figure(0.6)) is True
+    assert verdict(target, figure(0.85), figure(0.6)) is False
+    assert verdict(target, figure(0.1), None) is False  # no reference measured: not met
+    assert verdict(Target("open files", ""), figure(80.0), figure(70.0)) is None  # no target
+
+
+def test_first_goals_are_judged_on_their_p90_as_documented():
+    target = next(target for target in TARGETS if target.name == "first goal of every part after enabled")
+    spread = {"p50": 15.0, "p90": 19.0, "max": 40.0, "mean": 17.0, "samples": 20}
+    assert verdict(target, spread, None) is True
+    assert verdict(target, dict(spread, p90=21.0), None) is False
