@@ -16,7 +16,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.event_log import format_log_line, format_timestamp
 from cssr_system.animate_behaviour.motion.planners import GOAL_TIME_TOLERANCE, Planner, settled
-from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory, to_points
+from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory
 from cssr_system.animate_behaviour.rospy_compat import ignore_feedback, server_ready, write_at_once
 from cssr_system.pepper.joint_table import PARTS
 
@@ -38,11 +38,13 @@ def goal_message(joints, timed: TimedTrajectory) -> FollowJointTrajectoryGoal:
     goal.trajectory.header.stamp = rospy.Time(0)  # start now
     goal.goal_time_tolerance = rospy.Duration.from_sec(GOAL_TIME_TOLERANCE)
     nanoseconds = numpy.rint(numpy.asarray(timed.times) * 1e9).astype(numpy.int64).tolist()
+    # Rows as lists of floats in one C loop each; the points' fields in the message's order (positions, velocities,
+    # accelerations, effort, time_from_start): keyword arguments take genpy a third longer for 100 points.
+    rows = zip(*(numpy.asarray(values, dtype=float).tolist()
+                 for values in (timed.positions, timed.velocities, timed.accelerations)), nanoseconds)
     goal.trajectory.points = [
-        JointTrajectoryPoint(positions=list(point.positions), velocities=list(point.velocities),
-                             accelerations=list(point.accelerations),
-                             time_from_start=rospy.Duration(*divmod(nanosecond, 1000000000)))
-        for point, nanosecond in zip(to_points(timed), nanoseconds)]
+        JointTrajectoryPoint(positions, velocities, accelerations, [], rospy.Duration(*divmod(nanosecond, 1000000000)))
+        for positions, velocities, accelerations, nanosecond in rows]
     return goal
 
 

@@ -1,0 +1,44 @@
+"""The FollowJointTrajectory goal of a planned trajectory (node/trajectory_client.py goal_message): every point's
+positions, velocities, accelerations and time, to the nanosecond, as planned."""
+import io
+
+import numpy
+from control_msgs.msg import FollowJointTrajectoryActionGoal
+
+from cssr_system.animate_behaviour.motion.planners import GOAL_TIME_TOLERANCE, settled
+from cssr_system.animate_behaviour.motion.trajectory_timing import time_trajectory
+from cssr_system.animate_behaviour.node.trajectory_client import goal_message
+from cssr_system.pepper.joint_table import PARTS
+
+
+def planned(part: str, seed: int):
+    joints, centre = PARTS[part].joints, numpy.array(PARTS[part].centre)
+    rng = numpy.random.default_rng(seed)
+    waypoints = centre + rng.uniform(-0.05, 0.05, (12, len(joints)))
+    zeros = numpy.zeros(len(joints))
+    return joints, settled(time_trajectory(waypoints, joints, centre, zeros, 0.7))
+
+
+def test_the_goal_carries_every_point_as_planned_and_serializes():
+    for seed, part in enumerate(PARTS):
+        joints, timed = planned(part, seed)
+        goal = goal_message(joints, timed)
+        assert goal.trajectory.joint_names == list(joints)
+        assert goal.trajectory.header.stamp.is_zero()  # start as soon as it arrives
+        assert goal.goal_time_tolerance.to_sec() == GOAL_TIME_TOLERANCE
+        assert len(goal.trajectory.points) == len(timed.times)
+        for point, time, positions, velocities, accelerations in zip(goal.trajectory.points, timed.times,
+                                                                     timed.positions, timed.velocities,
+                                                                     timed.accelerations):
+            assert point.positions == list(positions) and point.velocities == list(velocities)
+            assert point.accelerations == list(accelerations) and point.effort == []
+            assert all(isinstance(value, float) for value in point.positions + point.velocities)
+            assert point.time_from_start.to_nsec() == int(round(time * 1e9))
+        FollowJointTrajectoryActionGoal(goal=goal).serialize(io.BytesIO())
+
+
+def test_the_hold_of_a_goal_that_ends_at_rest_is_its_last_point_again():
+    joints, timed = planned("RArm", 7)
+    points = goal_message(joints, timed).trajectory.points
+    assert points[-1].positions == points[-2].positions
+    assert points[-1].velocities == [0.0] * len(joints)
