@@ -25,7 +25,7 @@ pytest.importorskip("nav_msgs.msg", reason="nav_msgs (PyPI: ros-nav-msgs) is not
 
 from cssr_system.animate_behaviour import contract  # noqa: E402
 from cssr_system.animate_behaviour.event_log import read_log  # noqa: E402
-from cssr_system.animate_behaviour.harness import checks, oracle, report, session, settings  # noqa: E402
+from cssr_system.animate_behaviour.harness import checks, oracle, report, settings  # noqa: E402
 from cssr_system.animate_behaviour.harness.session import HarnessError  # noqa: E402
 from cssr_system.animate_behaviour.motion import report as motion_report  # noqa: E402
 from cssr_system.package_files import data_dir  # noqa: E402
@@ -137,6 +137,33 @@ def assert_passed(outcome: checks.HarnessOutcome, robot: Robot) -> None:
     assert outcome.passed, "\n".join((checks.failure_message(outcome), report.format_test(outcome), robot.output()))
 
 
+def resampled(joints, names, start: float, end: float, rate: float):
+    """(times, positions (times x names)) of the observed joints on an even grid of `rate` Hz from `start` to
+    `end`: the evenly spaced samples that motion.report's figures take. Cubic between samples (through the two
+    either side), so that an uneven or a missing sample does not show up as a jerk, as it would with straight
+    lines; straight lines with fewer than four samples."""
+    ordered = []
+    for sample in joints:
+        if not ordered or sample.time > ordered[-1].time:  # the weights below divide by time differences
+            ordered.append(sample)
+    times = numpy.arange(start, end, 1.0 / rate)
+    stamps = numpy.array([sample.time for sample in ordered])
+    values = numpy.array([[sample.positions.get(name, numpy.nan) for name in names] for sample in ordered],
+                         dtype=float).reshape(len(ordered), len(names))
+    if len(ordered) < 4:
+        columns = [numpy.interp(times, stamps, values[:, column]) for column in range(len(names))]
+        return times, numpy.array(columns, dtype=float).T.reshape(len(times), len(names))
+    first = numpy.clip(numpy.searchsorted(stamps, times) - 2, 0, len(ordered) - 4)
+    around = first[:, None] + numpy.arange(4)  # the four samples around each time
+    knots = stamps[around]
+    weights = numpy.ones(around.shape)  # Lagrange's
+    for one in range(4):
+        for other in range(4):
+            if one != other:
+                weights[:, one] *= (times - knots[:, other]) / (knots[:, one] - knots[:, other])
+    return times, numpy.einsum("tk,tkj->tj", weights, values[around])
+
+
 def rms_jerks(times, names, positions) -> dict:
     return {row.joint: row.rms_jerk for row in motion_report.figures(times, names, positions)}
 
@@ -158,8 +185,8 @@ def assert_smooth(harness: Ros2Harness, config, test: str) -> None:
     node_config = settings.node_configuration(config, test)
     expected = oracle.expected_motion(test, config.platform, node_config)
     names = [joint for joint, bound in expected.bounds.items() if bound.moving]
-    times, positions = session.resampled(harness.recorder.stamped_joints(), names, observation.enable_sent,
-                                         observation.disable_sent, motion_report.SAMPLE_RATE)
+    times, positions = resampled(harness.recorder.stamped_joints(), names, observation.enable_sent,
+                                 observation.disable_sent, motion_report.SAMPLE_RATE)
     recorded = rms_jerks(times, names, positions)
     planned = planned_rms_jerks(node_config, config.test_duration)
     worst = max(recorded, key=recorded.get)

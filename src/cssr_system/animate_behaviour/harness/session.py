@@ -12,8 +12,6 @@ import threading
 import time
 from typing import Callable, List, Mapping, Optional, Sequence, Tuple
 
-import numpy
-
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import (Configuration, configuration_items,
                                                          format_configuration_file, topic_file_path)
@@ -150,34 +148,6 @@ def append_report(path: str, text: str) -> None:
             stream.write(text)
     except OSError as error:
         raise HarnessError("cannot write the report {}: {}".format(path, error)) from None
-
-
-def resampled(joints: Sequence[checks.JointSample], names: Sequence[str], start: float, end: float,
-              rate: float) -> Tuple[numpy.ndarray, numpy.ndarray]:
-    """(times, positions (times x names)) of the observed joints on an even grid of `rate` Hz from `start` to
-    `end`: the evenly spaced samples that motion.report's figures take. Cubic between samples (through the two
-    either side), so that an uneven or a missing sample does not show up as a jerk, as it would with straight
-    lines; straight lines with fewer than four samples."""
-    ordered: List[checks.JointSample] = []
-    for sample in joints:
-        if not ordered or sample.time > ordered[-1].time:  # the weights below divide by time differences
-            ordered.append(sample)
-    times = numpy.arange(start, end, 1.0 / rate)
-    stamps = numpy.array([sample.time for sample in ordered])
-    values = numpy.array([[sample.positions.get(name, numpy.nan) for name in names] for sample in ordered],
-                         dtype=float).reshape(len(ordered), len(names))
-    if len(ordered) < 4:
-        columns = [numpy.interp(times, stamps, values[:, column]) for column in range(len(names))]
-        return times, numpy.array(columns, dtype=float).T.reshape(len(times), len(names))
-    first = numpy.clip(numpy.searchsorted(stamps, times) - 2, 0, len(ordered) - 4)
-    around = first[:, None] + numpy.arange(4)  # the four samples around each time
-    knots = stamps[around]
-    weights = numpy.ones(around.shape)  # Lagrange's
-    for one in range(4):
-        for other in range(4):
-            if one != other:
-                weights[:, one] *= (times - knots[:, other]) / (knots[:, one] - knots[:, other])
-    return times, numpy.einsum("tk,tkj->tj", weights, values[around])
 
 
 class NodeLink:
