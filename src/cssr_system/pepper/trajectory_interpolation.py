@@ -177,7 +177,6 @@ class JointTrajectorySpline:
             [end[0] - begin[0] for begin, end in zip(self._states, self._states[1:])], dtype=float)
         self.segment_kinds: Tuple[str, ...] = tuple(
             _KINDS[min(_level(begin), _level(end))] for begin, end in zip(self._states, self._states[1:]))
-        self.point_times = numpy.array([state[0] for state in states], dtype=float)
         self.final_positions = states[-1][1].copy() if states else p0.copy()
         self._end_time = states[-1][0] if states else self.start_time
 
