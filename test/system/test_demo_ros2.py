@@ -17,6 +17,9 @@ REPO_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 DEMO_DURATION = 6
 SETUP_TIMEOUT = 1800  # s: the first set-up builds the interface packages (minutes); later ones take seconds
 RUN_TIMEOUT = 120  # s for one run; a plain one takes about 20
+# The demos' ROS 2 domain: one that test/ros2, which make test runs beside the system tests, never uses (its modules
+# take theirs from 1-100). A free one, as the demo picks by default, may be taken by a test's nodes a moment later.
+DEMO_DOMAIN_ID = 101
 
 
 @pytest.fixture(scope="module")
@@ -39,6 +42,7 @@ def run_demo(command, output_dir, interrupt_after=None, **options):
     inherits a marker of the run: tools/ros2/run.sh keeps CSSR_* variables)."""
     run = uuid.uuid4().hex
     environment = dict(os.environ, DEMO_OUTPUT_DIR=str(output_dir), CSSR_DEMO_TEST_RUN=run,
+                       DEMO_DOMAIN_ID=str(DEMO_DOMAIN_ID),
                        **{"DEMO_" + key: str(value) for key, value in options.items()})
     for name in ("MAKELEVEL", "MAKEFLAGS", "MFLAGS"):  # run by `make test`: `make demo` as typed in a shell
         environment.pop(name, None)
