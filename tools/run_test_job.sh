@@ -9,10 +9,12 @@ name=$(basename "$job" .test)
 out="$results_dir/rostest/$name.out"
 if [ "$job" = test/system ]; then
   python3 -m pytest test/system -q -p no:cacheprovider --junitxml="$results_dir/system.xml" > "$out" 2>&1
+  status=$?
 else
   rostest --results-base-dir "$results_dir/rostest" cssr_system "$name.test" > "$out" 2>&1
+  status=$?
 fi
-if [ $? = 0 ]; then
+if [ "$status" = 0 ]; then
   echo "  $job: ok"
 else
   echo "  $job: FAILED (output: $out)"
