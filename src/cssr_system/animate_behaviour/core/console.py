@@ -55,6 +55,4 @@ class Heartbeat:
         now = self._clock()
         if now >= self._due:
             console.info("%s: running.", NODE_NAME)
-            self._due += self._period
-            if self._due <= now:  # a wait longer than a period: the next line a period from now
-                self._due = now + self._period
+            self._due = now + self._period
