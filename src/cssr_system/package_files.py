@@ -1,9 +1,13 @@
 """Where the package's files are: the one lookup that every program, tool and test uses.
 
-ROS's package index comes first (ROS 1's rospkg; ROS 2's ament index where ROS_VERSION is 2, as ROS 2's setup
-files set it), so a program run from an install space finds ``<install>/share/cssr_system`` (its ``config/``,
-``data/``, ``launch/`` and ``package.xml``), and one run from a ROS 1 development workspace finds the source folder.
-Where ROS does not know the package (e.g. a plain ``pytest`` run), the source tree around this module is used.
+ROS's package index comes first, read as each ROS's setup files leave it in the environment, so that this module
+imports no ROS (the core below both front-ends uses it): on ROS 2 (ROS_VERSION 2) the ament index of
+AMENT_PREFIX_PATH, whose ``share/ament_index/resource_index/packages/cssr_system`` marks ``<prefix>/share/cssr_system``;
+on ROS 1 the folders of ROS_PACKAGE_PATH, searched as rospack searches them (the first folder holding the package's
+package.xml, not below another package). So a program run from an install space finds ``<install>/share/cssr_system``
+(its ``config/``, ``data/``, ``launch/`` and ``package.xml``), and one run from a ROS 1 development workspace finds
+the source folder. Where ROS does not know the package (e.g. a plain ``pytest`` run), the source tree around this
+module is used.
 """
 import functools
 import os
@@ -30,12 +34,46 @@ def package_dir() -> str:
 
 
 def _indexed_package_dir() -> str:
-    # Imported here, not at the top: the plotting tool works without ROS, and each ROS has only its own index.
     if os.environ.get("ROS_VERSION") == "2":
-        from ament_index_python.packages import get_package_share_directory
-        return get_package_share_directory(PACKAGE_NAME)
-    import rospkg
-    return rospkg.RosPack().get_path(PACKAGE_NAME)
+        return _ament_package_dir(os.environ.get("AMENT_PREFIX_PATH", ""))
+    return _ros_package_path_dir(os.environ.get("ROS_PACKAGE_PATH", ""))
+
+
+def _ament_package_dir(prefixes: str) -> str:
+    for prefix in filter(None, prefixes.split(os.pathsep)):
+        if os.path.isfile(os.path.join(prefix, "share", "ament_index", "resource_index", "packages", PACKAGE_NAME)):
+            return os.path.join(prefix, "share", PACKAGE_NAME)
+    raise PackageNotFound("%s is not in the ament index of AMENT_PREFIX_PATH" % PACKAGE_NAME)
+
+
+def _ros_package_path_dir(folders: str) -> str:
+    for folder in filter(None, folders.split(os.pathsep)):
+        found = _package_below(folder)
+        if found:
+            return found
+    raise PackageNotFound("%s is in no folder of ROS_PACKAGE_PATH" % PACKAGE_NAME)
+
+
+def _package_below(folder: str) -> str:
+    """The folder at or below `folder` whose package.xml names the package ("" if none). As rospack does, a folder
+    with a package.xml is a package whose subfolders are not searched, nor are hidden folders or those marked
+    CATKIN_IGNORE."""
+    for here, subfolders, names in os.walk(folder, followlinks=True):
+        if "package.xml" in names:
+            subfolders.clear()
+            if _package_name(os.path.join(here, "package.xml")) == PACKAGE_NAME:
+                return here
+        elif "CATKIN_IGNORE" in names:
+            subfolders.clear()
+        subfolders[:] = [name for name in subfolders if not name.startswith(".")]
+    return ""
+
+
+def _package_name(manifest: str) -> str:
+    try:
+        return ElementTree.parse(manifest).getroot().findtext("name") or ""
+    except (OSError, ElementTree.ParseError):
+        return ""
 
 
 def package_path(*parts: str) -> str:
