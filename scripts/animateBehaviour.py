@@ -6,7 +6,7 @@ then: rosservice call /animateBehaviour/setActivation "state: 'enabled'"   (or '
 """
 import sys
 
-from cssr_system.animate_behaviour.node.main import main
+from cssr_system.ros1.animate_behaviour_main import main
 
 if __name__ == "__main__":
     sys.exit(main())

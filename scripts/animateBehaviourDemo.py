@@ -5,7 +5,7 @@ roslaunch cssr_system animateBehaviourDemo.launch starts it with the rest of the
 """
 import sys
 
-from cssr_system.animate_behaviour.demo.driver import main
+from cssr_system.ros1.demo_driver import main
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -6,7 +6,7 @@ rosrun cssr_system animateBehaviourDemoGesture.py, then publish std_msgs/Empty o
 """
 import sys
 
-from cssr_system.animate_behaviour.demo.gesture_player import main
+from cssr_system.ros1.gesture_player import main
 
 if __name__ == "__main__":
     sys.exit(main())

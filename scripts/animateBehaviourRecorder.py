@@ -5,7 +5,7 @@ rosrun cssr_system animateBehaviourRecorder.py [_output_dir:=DIR] [_node:=/anima
 """
 import sys
 
-from cssr_system.animate_behaviour.recording.recorder_node import main
+from cssr_system.ros1.recorder_node import main
 
 if __name__ == "__main__":
     sys.exit(main())

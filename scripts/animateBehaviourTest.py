@@ -5,7 +5,7 @@ roslaunch cssr_system animateBehaviourLaunchTestHarness.launch platform:=robot|s
 """
 import sys
 
-from cssr_system.animate_behaviour.harness.runner import main
+from cssr_system.ros1.harness_runner import main
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -5,7 +5,7 @@ rosrun cssr_system plotAnimation.py RECORDING [--log LOGFILE] [--config FILE] [-
 """
 import sys
 
-from cssr_system.animate_behaviour.recording.plot import main
+from cssr_system.recording.plot import main
 
 if __name__ == "__main__":
     sys.exit(main(sys.argv[1:]))

@@ -5,7 +5,7 @@ rosrun cssr_system simulatedPepper.py [_platform:=robot|simulator]   (README: "O
 """
 import sys
 
-from cssr_system.pepper.simulated_pepper_node import main
+from cssr_system.ros1.simulated_pepper_node import main
 
 if __name__ == "__main__":
     sys.exit(main())

@@ -29,8 +29,8 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import load_configuration, topic_file_path
 from cssr_system.animate_behaviour.contract import NODE_NAME, REPLY_FAILURE, REPLY_SUCCESS, SERVICE_PATH
 from cssr_system.animate_behaviour.event_log import read_log
-from cssr_system.animate_behaviour.core.joint_states import REST_DELAY
 from cssr_system.animate_behaviour.topics import WHEELS_KEY, load_topic_map
+from cssr_system.core.joint_states import REST_DELAY
 from cssr_system.pepper.joint_table import JOINTS, PARTS, speed_limit
 from cssr_system.srv import setActivation
 

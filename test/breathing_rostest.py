@@ -16,7 +16,7 @@ from sensor_msgs.msg import JointState
 
 from cssr_system.animate_behaviour.configuration import load_configuration
 from cssr_system.animate_behaviour.contract import REPLY_SUCCESS, SERVICE_PATH
-from cssr_system.animate_behaviour.motion.waypoints import animated_parts
+from cssr_system.motion.waypoints import animated_parts
 from cssr_system.pepper.joint_table import PARTS, speed_limit
 from cssr_system.srv import setActivation
 

@@ -26,7 +26,7 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import load_configuration, shipped_configuration_path
 from cssr_system.animate_behaviour.contract import NODE_NAME, REPLY_SUCCESS, SERVICE_PATH
 from cssr_system.animate_behaviour.event_log import read_log
-from cssr_system.animate_behaviour.motion.waypoints import animated_parts
+from cssr_system.motion.waypoints import animated_parts
 from cssr_system.msg import AnimateAction, AnimateBehaviourStatus, AnimateGoal
 from cssr_system.pepper.joint_table import PARTS, centre_of
 from cssr_system.srv import setActivation

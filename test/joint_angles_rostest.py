@@ -19,10 +19,10 @@ from sensor_msgs.msg import JointState
 
 from cssr_system.animate_behaviour.configuration import load_configuration
 from cssr_system.animate_behaviour.contract import NODE_NAME, REPLY_SUCCESS, SERVICE_PATH, STATUS_TOPIC
-from cssr_system.animate_behaviour.motion.waypoints import animated_parts
-from cssr_system.animate_behaviour.rospy_compat import caller_of
+from cssr_system.motion.waypoints import animated_parts
 from cssr_system.msg import AnimateBehaviourStatus
 from cssr_system.pepper.joint_table import PARTS, speed_limit
+from cssr_system.ros1.rospy_compat import caller_of
 from cssr_system.srv import setActivation
 
 TOPIC = "/joint_angles"

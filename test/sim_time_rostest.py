@@ -16,7 +16,7 @@ from nav_msgs.msg import Odometry
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import REPLY_SUCCESS, SERVICE_PATH
 from cssr_system.animate_behaviour.event_log import read_log
-from cssr_system.animate_behaviour.recording.recording import unwrap_heading, yaw_from_quaternion
+from cssr_system.recording.recording import unwrap_heading, yaw_from_quaternion
 from cssr_system.srv import setActivation
 
 HEADING_BOUND = 0.3  # the shipped headingBound

@@ -32,13 +32,13 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 from wire_recorder import WireRecorder, wait_until  # noqa: E402
 
-from cssr_system.animate_behaviour.contract import (NODE_NAME, SERVICE_PATH, SET_ENABLED_SERVICE_NAME,  # noqa: E402
-                                                    STATUS_TOPIC)
-from cssr_system.msg import AnimateBehaviourStatus  # noqa: E402
 from cssr_system.animate_behaviour.configuration import ALL_BEHAVIOURS, load_configuration  # noqa: E402
 from cssr_system.animate_behaviour.configuration import shipped_configuration_path, topic_file_path  # noqa: E402
+from cssr_system.animate_behaviour.contract import (NODE_NAME, SERVICE_PATH, SET_ENABLED_SERVICE_NAME,  # noqa: E402
+                                                    STATUS_TOPIC)
 from cssr_system.animate_behaviour.topics import load_topic_map  # noqa: E402
-from cssr_system.animate_behaviour.core.joint_states import REST_DELAY  # noqa: E402
+from cssr_system.core.joint_states import REST_DELAY  # noqa: E402
+from cssr_system.msg import AnimateBehaviourStatus  # noqa: E402
 from cssr_system.pepper.joint_table import PARTS  # noqa: E402
 from cssr_system.srv import setActivation  # noqa: E402
 

@@ -1,5 +1,5 @@
 """The test harness on ROS 2 (cssr_system.ros2.harness_runner): the ROS 1 harness's checks, from the same ROS-free
-code (cssr_system.animate_behaviour.harness), judge the ROS 2 node (cssr_system.ros2.animate_behaviour_main) beside
+code (cssr_system.harness), judge the ROS 2 node (cssr_system.ros2.animate_behaviour_main) beside
 the ROS 2 simulated Pepper, each in a process of its own: the random style with the leg's chunk pattern, the
 breathing style, and the joint_angles actuation. A smoothness figure of motion/report.py, computed on the recorded
 /joint_states, is bounded by the same figure of the node's own plan.
@@ -25,9 +25,9 @@ pytest.importorskip("nav_msgs.msg", reason="nav_msgs (PyPI: ros-nav-msgs) is not
 
 from cssr_system.animate_behaviour import contract  # noqa: E402
 from cssr_system.animate_behaviour.event_log import read_log  # noqa: E402
-from cssr_system.animate_behaviour.harness import checks, oracle, report, settings  # noqa: E402
-from cssr_system.animate_behaviour.harness.session import HarnessError  # noqa: E402
-from cssr_system.animate_behaviour.motion import report as motion_report  # noqa: E402
+from cssr_system.harness import checks, oracle, report, settings  # noqa: E402
+from cssr_system.harness.session import HarnessError  # noqa: E402
+from cssr_system.motion import report as motion_report  # noqa: E402
 from cssr_system.package_files import data_dir  # noqa: E402
 from cssr_system.ros2.harness_runner import Ros2Harness  # noqa: E402
 

@@ -107,7 +107,7 @@ def check_plot_and_recording(output, output_dir):
         content = image.read()
     assert content.startswith(PNG_SIGNATURE)
     assert len(content) > 30 * 1024
-    from cssr_system.animate_behaviour.recording.recording import read_recording  # after the skip: needs the workspace
+    from cssr_system.recording.recording import read_recording  # after the skip: needs the workspace
     return read_recording(os.path.join(str(output_dir), "animation.json"))
 
 

@@ -82,7 +82,7 @@ def check_plot_and_recording(output, output_dir):
     with open(png_path, "rb") as image:
         content = image.read()
     assert content.startswith(PNG_SIGNATURE) and len(content) > 30 * 1024
-    from cssr_system.animate_behaviour.recording.recording import read_recording
+    from cssr_system.recording.recording import read_recording
     return read_recording(os.path.join(str(output_dir), "animation.json"))
 
 
@@ -105,7 +105,7 @@ def test_the_ros2_demo_runs_moves_within_the_bands_of_the_log_and_plots(ros2_env
     assert DEMO_DURATION - 0.5 < disabled_at - enabled_at < DEMO_DURATION + 1.0
     assert len(recording.times) > 50 * DEMO_DURATION * 0.8  # /joint_states at 50 Hz
 
-    from cssr_system.animate_behaviour.recording.recording import BAND_TOLERANCE, bands_from_log, heading_excess
+    from cssr_system.recording.recording import BAND_TOLERANCE, bands_from_log, heading_excess
     bands, _ = bands_from_log(log_entries(tmp_path))
     assert bands and dict(recording.bands) == dict(bands), "the recording's bands are not the log's"
     enabled = (recording.times > enabled_at) & (recording.times < disabled_at)

@@ -1,10 +1,10 @@
 """Fakes shared by the unit tests of the streams and the supervisor: a controller client (core/goals.py) and its goal
 handles, and the event log."""
-from cssr_system.animate_behaviour.node.trajectory_client import goal_message, goal_state_name
+from cssr_system.ros1.trajectory_client import goal_message, goal_state_name
 
 
 class FakeHandle:
-    """A goal sent (the ROS 1 message, as node/trajectory_client.py builds it), and its end when `finish` reports
+    """A goal sent (the ROS 1 message, as ros1/trajectory_client.py builds it), and its end when `finish` reports
     it."""
 
     def __init__(self, goal, done):

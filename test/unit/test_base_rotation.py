@@ -5,11 +5,11 @@ import numpy
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from cssr_system.animate_behaviour.motion.base_rotation import (MAX_TURN_TIME, MIN_SAMPLE_RATE, MIN_TURN,
-                                                                RELATIVE_COMMAND_MARGIN, RETURN_TOLERANCE,
-                                                                BaseRotationPlanner, RotationStep,
-                                                                heading_after_interruption,
-                                                                raised_cosine_velocities)
+from cssr_system.motion.base_rotation import (MAX_TURN_TIME, MIN_SAMPLE_RATE, MIN_TURN,
+                                              RELATIVE_COMMAND_MARGIN, RETURN_TOLERANCE,
+                                              BaseRotationPlanner, RotationStep,
+                                              heading_after_interruption,
+                                              raised_cosine_velocities)
 from cssr_system.pepper.joint_table import (RELATIVE, VELOCITY, wheels_command_kind,
                                             BASE_MAX_ANGULAR_ACCELERATION, BASE_MAX_ANGULAR_VELOCITY,
                                             BASE_MOVETO_ANGULAR_VELOCITY, BASE_MOVETO_SETTLE_TIME,

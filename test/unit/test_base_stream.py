@@ -7,9 +7,9 @@ from conftest import default_configuration
 from fakes import FakeLog
 
 from cssr_system.animate_behaviour import contract
-from cssr_system.animate_behaviour.core.base_stream import BaseStream
-from cssr_system.animate_behaviour.core.motion_stream import StreamState
-from cssr_system.animate_behaviour.motion.styles import MotionStyle
+from cssr_system.core.base_stream import BaseStream
+from cssr_system.core.motion_stream import StreamState
+from cssr_system.motion.styles import MotionStyle
 
 MOVETO = "/pepper_dcm/cmd_moveto"
 VELOCITY = "/pepper/cmd_vel"

@@ -3,10 +3,10 @@ import numpy
 import pytest
 from conftest import default_configuration
 
-from cssr_system.animate_behaviour.motion.breathing import CONTINUATION_LEAD, BreathingPlanner
-from cssr_system.animate_behaviour.motion.styles import MotionStyle
-from cssr_system.animate_behaviour.motion.trajectory_timing import speed_caps, to_points
-from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng, narrow_bands
+from cssr_system.motion.breathing import CONTINUATION_LEAD, BreathingPlanner
+from cssr_system.motion.styles import MotionStyle
+from cssr_system.motion.trajectory_timing import speed_caps, to_points
+from cssr_system.motion.waypoints import animated_parts, make_rng, narrow_bands
 from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, JOINTS, PARTS
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
 

@@ -3,8 +3,8 @@ node's calls replayed as naoqi_driver executes them, other nodes' calls as marks
 import numpy
 import pytest
 
-from cssr_system.animate_behaviour.recording.commanded import SentCall, call_marks, commanded_by_calls
 from cssr_system.pepper.joint_table import JOINTS, PARTS
+from cssr_system.recording.commanded import SentCall, call_marks, commanded_by_calls
 
 NODE, OTHER = "/animateBehaviour", "/gesture"
 TIMES = numpy.arange(0.0, 3.0, 0.02)

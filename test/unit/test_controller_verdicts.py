@@ -6,7 +6,7 @@ import re
 import numpy
 import pytest
 
-from cssr_system.animate_behaviour.motion.trajectory_timing import time_trajectory
+from cssr_system.motion.trajectory_timing import time_trajectory
 from cssr_system.pepper.joint_table import CONTROLLER_JOINTS, HEAD_PART, PARTS
 from cssr_system.pepper.simulated_pepper import (COMMANDED, GOAL_TOLERANCE_VIOLATED, MEASURED,
                                                  PATH_TOLERANCE_VIOLATED, PLATFORMS, SUCCESSFUL, ZERO, GoalPoint,

@@ -6,10 +6,10 @@ from types import SimpleNamespace
 
 import pytest
 
-from cssr_system.animate_behaviour.core import controller_watcher
-from cssr_system.animate_behaviour.core.controller_watcher import ControllerWatcher
-from cssr_system.animate_behaviour.core.events import ControllerConnected, ControllerLost
-from cssr_system.animate_behaviour.rospy_compat import server_ready
+from cssr_system.core import controller_watcher
+from cssr_system.core.controller_watcher import ControllerWatcher
+from cssr_system.core.events import ControllerConnected, ControllerLost
+from cssr_system.ros1.rospy_compat import server_ready
 
 ACTION = "/pepper_dcm/RightArm_controller/follow_joint_trajectory"
 SERVER = "/pepper_dcm"

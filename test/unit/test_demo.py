@@ -2,9 +2,9 @@
 import numpy
 import pytest
 
-from cssr_system.animate_behaviour.demo.gesture import GESTURE_DURATION, GESTURE_PART, gesture_points
-from cssr_system.animate_behaviour.demo.live_lines import (DISABLE, GESTURE, LINE, MOVING_COLUMN_WIDTH, LiveWindow,
-                                                           schedule, status_line)
+from cssr_system.demo.gesture import GESTURE_DURATION, GESTURE_PART, gesture_points
+from cssr_system.demo.live_lines import (DISABLE, GESTURE, LINE, MOVING_COLUMN_WIDTH, LiveWindow,
+                                         schedule, status_line)
 from cssr_system.pepper.joint_table import JOINTS, PARTS
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline, sample_trajectory
 

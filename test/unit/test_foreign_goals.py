@@ -1,6 +1,6 @@
 """Unit tests of the core's view of other clients' goals (core/foreign_goals.py), shared by both ROS's watches."""
-from cssr_system.animate_behaviour.core.events import ForeignGoal, ForeignResult
-from cssr_system.animate_behaviour.core.foreign_goals import ForeignGoals
+from cssr_system.core.events import ForeignGoal, ForeignResult
+from cssr_system.core.foreign_goals import ForeignGoals
 
 ACTION = "/pepper_dcm/RightArm_controller/follow_joint_trajectory"
 

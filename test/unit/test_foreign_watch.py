@@ -1,14 +1,14 @@
-"""Unit tests of how the node tells other nodes' goals and Twists from its own (node/foreign_watch.py), no master."""
+"""Unit tests of how the node tells other nodes' goals and Twists from its own (ros1/foreign_watch.py), no master."""
 import numpy
 import pytest
 from actionlib_msgs.msg import GoalID, GoalStatus, GoalStatusArray
 from geometry_msgs.msg import Twist, Vector3
 from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 
-from cssr_system.animate_behaviour.core.events import ForeignGoal, ForeignJointAngles, ForeignResult, ForeignTwist
-from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch
-from cssr_system.animate_behaviour.rospy_compat import caller_of_goal
+from cssr_system.core.events import ForeignGoal, ForeignJointAngles, ForeignResult, ForeignTwist
 from cssr_system.pepper.joint_table import JOINTS, centre_of
+from cssr_system.ros1.foreign_watch import ForeignCommandWatch
+from cssr_system.ros1.rospy_compat import caller_of_goal
 
 ACTION = "/pepper_dcm/RightArm_controller/follow_joint_trajectory"
 

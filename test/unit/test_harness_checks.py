@@ -7,7 +7,7 @@ import pytest
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import ConfigurationError, configuration_items
 from cssr_system.animate_behaviour.event_log import LogEntry
-from cssr_system.animate_behaviour.harness import settings, oracle, checks, report
+from cssr_system.harness import settings, oracle, checks, report
 from cssr_system.pepper.joint_table import JOINTS, PARTS, centre_of
 
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))

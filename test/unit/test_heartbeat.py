@@ -1,7 +1,7 @@
 """The console's "running." line (core/console.py Heartbeat), said by the ROS 1 program's main loop."""
 import logging
 
-from cssr_system.animate_behaviour.core.console import HEARTBEAT_PERIOD, Heartbeat, console
+from cssr_system.animate_behaviour.console import HEARTBEAT_PERIOD, Heartbeat, console
 
 
 class FakeClock:

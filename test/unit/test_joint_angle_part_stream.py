@@ -6,13 +6,13 @@ from conftest import default_configuration
 from fakes import FakeLog
 
 from cssr_system.animate_behaviour import contract
-from cssr_system.animate_behaviour.motion import joint_angle_stream as streaming
-from cssr_system.animate_behaviour.motion.breathing import CONTINUATION_LEAD
-from cssr_system.animate_behaviour.motion.styles import MotionStyle
-from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng
-from cssr_system.animate_behaviour.core.foreign_motion import JOINT_ANGLES
-from cssr_system.animate_behaviour.core.joint_angle_stream import JointAngleStream, next_send_time, send_phase
-from cssr_system.animate_behaviour.core.motion_stream import StreamState
+from cssr_system.core.foreign_motion import JOINT_ANGLES
+from cssr_system.core.joint_angle_stream import JointAngleStream, next_send_time, send_phase
+from cssr_system.core.motion_stream import StreamState
+from cssr_system.motion import joint_angle_stream as streaming
+from cssr_system.motion.breathing import CONTINUATION_LEAD
+from cssr_system.motion.styles import MotionStyle
+from cssr_system.motion.waypoints import animated_parts, make_rng
 from cssr_system.pepper.joint_table import JOINTS, PARTS, SPEED_FRACTION
 from cssr_system.pepper.simulated_pepper import NaoqiDriver
 

@@ -6,10 +6,10 @@ import numpy
 import pytest
 from conftest import default_configuration
 
-from cssr_system.animate_behaviour.motion import joint_angle_stream as stream
-from cssr_system.animate_behaviour.motion.styles import MotionStyle
-from cssr_system.animate_behaviour.motion.trajectory_timing import to_points
-from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng
+from cssr_system.motion import joint_angle_stream as stream
+from cssr_system.motion.styles import MotionStyle
+from cssr_system.motion.trajectory_timing import to_points
+from cssr_system.motion.waypoints import animated_parts, make_rng
 from cssr_system.pepper.joint_table import JOINTS, PARTS, SPEED_FRACTION
 from cssr_system.pepper.simulated_pepper import NaoqiDriver
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline, TrajectoryPoint

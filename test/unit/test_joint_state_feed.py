@@ -1,4 +1,4 @@
-"""Unit tests of listening to /joint_states only while the joints may move (node/joint_state_feed.py)."""
+"""Unit tests of listening to /joint_states only while the joints may move (core/joint_states.py)."""
 import threading
 import time
 
@@ -6,8 +6,8 @@ import genpy
 import numpy
 from sensor_msgs.msg import JointState
 
-from cssr_system.animate_behaviour.core.joint_states import (MAX_AGE, REST_DELAY, FeedState, JointStateCache,
-                                                             JointStateFeed, SubscriptionSwitch)
+from cssr_system.core.joint_states import (MAX_AGE, REST_DELAY, FeedState, JointStateCache,
+                                           JointStateFeed, SubscriptionSwitch)
 
 ARM = ("RShoulderPitch", "RShoulderRoll")
 

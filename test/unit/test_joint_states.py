@@ -5,7 +5,7 @@ import genpy
 import numpy
 from sensor_msgs.msg import JointState
 
-from cssr_system.animate_behaviour.core.joint_states import MAX_AGE, JointStateCache
+from cssr_system.core.joint_states import MAX_AGE, JointStateCache
 
 ARM = ("RShoulderPitch", "RShoulderRoll")
 

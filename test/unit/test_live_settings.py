@@ -1,11 +1,11 @@
-"""Unit tests of the live settings (live_settings.py) and of the animate action's sessions (node/animate_action.py):
+"""Unit tests of the live settings (live_settings.py) and of the animate action's sessions (ros1/animate_action.py):
 no ROS master."""
 import pytest
 from conftest import default_configuration
 
 from cssr_system.animate_behaviour.live_settings import (changed_settings, goal_overrides, moving_parts,
                                                          setting_overrides, setting_values)
-from cssr_system.animate_behaviour.core.session import FEEDBACK_PERIOD, HOME_LEAD, LONGEST_HOMING, Session
+from cssr_system.core.session import FEEDBACK_PERIOD, HOME_LEAD, LONGEST_HOMING, Session
 
 
 def test_dynamic_reconfigures_names_map_onto_the_configuration_keys_and_back():

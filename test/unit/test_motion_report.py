@@ -5,7 +5,7 @@ import numpy
 import pytest
 
 from cssr_system.animate_behaviour.configuration import shipped_configuration_path
-from cssr_system.animate_behaviour.motion.report import SAMPLE_RATE, figures, report
+from cssr_system.motion.report import SAMPLE_RATE, figures, report
 from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION
 
 TIMES = numpy.arange(0.0, 60.0, 1.0 / SAMPLE_RATE)

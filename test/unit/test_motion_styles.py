@@ -4,9 +4,9 @@ import numpy
 import pytest
 from conftest import default_configuration
 
-from cssr_system.animate_behaviour.motion.styles import MotionStyle
-from cssr_system.animate_behaviour.motion.trajectory_timing import to_points
-from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng
+from cssr_system.motion.styles import MotionStyle
+from cssr_system.motion.trajectory_timing import to_points
+from cssr_system.motion.waypoints import animated_parts, make_rng
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
 

@@ -7,14 +7,14 @@ from fakes import FakeClient, FakeLog
 from control_msgs.msg import FollowJointTrajectoryResult
 
 from cssr_system.animate_behaviour import contract
-from cssr_system.animate_behaviour.motion.breathing import CONTINUATION_LEAD
-from cssr_system.animate_behaviour.motion.styles import MotionStyle
-from cssr_system.animate_behaviour.motion.planners import GOAL_TIME_TOLERANCE, SETTLE_TIME, RandomPlanner
-from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng
-from cssr_system.animate_behaviour.core.foreign_motion import RESULT_GRACE
-from cssr_system.animate_behaviour.core.motion_stream import StreamState as PartState
-from cssr_system.animate_behaviour.core.part_stream import (LOST_RESULT_GRACE, MEASURE_LEAD, RETRY_DELAY, TRANSITIONS,
-                                                            PartStream)
+from cssr_system.core.foreign_motion import RESULT_GRACE
+from cssr_system.core.motion_stream import StreamState as PartState
+from cssr_system.core.part_stream import (LOST_RESULT_GRACE, MEASURE_LEAD, RETRY_DELAY, TRANSITIONS,
+                                          PartStream)
+from cssr_system.motion.breathing import CONTINUATION_LEAD
+from cssr_system.motion.planners import GOAL_TIME_TOLERANCE, SETTLE_TIME, RandomPlanner
+from cssr_system.motion.styles import MotionStyle
+from cssr_system.motion.waypoints import animated_parts, make_rng
 from cssr_system.pepper.joint_table import PARTS
 
 ACTION = "/pepper_dcm/RightArm_controller/follow_joint_trajectory"

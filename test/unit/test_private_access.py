@@ -1,10 +1,10 @@
 """No module of the package reaches into the private parts of rospy, actionlib or genpy, except
-src/cssr_system/animate_behaviour/rospy_compat.py, which says why for each (README: "Package layout")."""
+src/cssr_system/ros1/rospy_compat.py, which says why for each (README: "Package layout")."""
 import pathlib
 import re
 
 SOURCE = pathlib.Path(__file__).resolve().parents[2] / "src" / "cssr_system"
-COMPAT = SOURCE / "animate_behaviour" / "rospy_compat.py"
+COMPAT = SOURCE / "ros1" / "rospy_compat.py"
 # A private attribute of another object (`x._name`, not our own `self._name`), rospy's implementation objects
 # (`.impl`), and a connection's socket.
 PRIVATE = re.compile(r"(?<!self)(?<!cls)\.(_[a-z][A-Za-z0-9_]*)\b|\.impl\b|\.socket\b|_connection_header|_buff\b")

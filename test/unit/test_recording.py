@@ -11,19 +11,19 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import load_configuration, topic_file_path
 from cssr_system.animate_behaviour.contract import DISABLED, ENABLED
 from cssr_system.animate_behaviour.event_log import EventLog, read_log
-from cssr_system.animate_behaviour.motion.waypoints import joint_bounds
-from cssr_system.animate_behaviour.recording.commanded import (CancelRequest, GoalResult, SentGoal, commanded_by,
-                                                               controller_pieces, goal_marks)
-from cssr_system.animate_behaviour.recording.plot import plot_recording
-from cssr_system.animate_behaviour.recording.recording import (RECORDING_FORMAT, plotted_parts, Commanded, JointBand,
-                                                               Mark, Recording, activations_from_log, band_excess,
-                                                               bands_from_configuration, bands_from_log,
-                                                               heading_excess, moving_parts, read_recording,
-                                                               unwrap_heading, write_recording,
-                                                               yaw_from_quaternion)
 from cssr_system.animate_behaviour.topics import load_topic_map
+from cssr_system.motion.waypoints import joint_bounds
 from cssr_system.pepper.joint_table import JOINTS, PARTS
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline, TrajectoryPoint
+from cssr_system.recording.commanded import (CancelRequest, GoalResult, SentGoal, commanded_by,
+                                             controller_pieces, goal_marks)
+from cssr_system.recording.plot import plot_recording
+from cssr_system.recording.recording import (RECORDING_FORMAT, plotted_parts, Commanded, JointBand,
+                                             Mark, Recording, activations_from_log, band_excess,
+                                             bands_from_configuration, bands_from_log,
+                                             heading_excess, moving_parts, read_recording,
+                                             unwrap_heading, write_recording,
+                                             yaw_from_quaternion)
 
 PACKAGE_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 CONFIG_FILE = os.path.join(PACKAGE_DIR, "config", "animateBehaviourConfiguration.ini")
@@ -355,7 +355,7 @@ def test_other_nodes_goals_become_marks_from_receipt_to_result():
 def test_changes_of_live_settings_become_one_mark_each(tmp_path):
     from cssr_system.animate_behaviour import contract
     from cssr_system.animate_behaviour.event_log import EventLog, read_log
-    from cssr_system.animate_behaviour.recording.recording import setting_changes_from_log
+    from cssr_system.recording.recording import setting_changes_from_log
     path = str(tmp_path / "node.log")
     log = EventLog(path)
     log.write(contract.SETTING_CHANGED, key="intensity", old="1.0", new="0.5", by="/tree")
@@ -369,9 +369,9 @@ def test_changes_of_live_settings_become_one_mark_each(tmp_path):
 def test_a_change_of_bands_is_recorded_plotted_and_read_back(tmp_path):
     from cssr_system.animate_behaviour import contract
     from cssr_system.animate_behaviour.event_log import EventLog, read_log
-    from cssr_system.animate_behaviour.recording.plot import changing_bands
-    from cssr_system.animate_behaviour.recording.recording import (BandChange, band_changes_from_log, read_recording,
-                                                                   write_recording)
+    from cssr_system.recording.plot import changing_bands
+    from cssr_system.recording.recording import (BandChange, band_changes_from_log, read_recording,
+                                                 write_recording)
     path = str(tmp_path / "node.log")
     log = EventLog(path)
     for upper in (1.7, 1.7, 1.6):  # the same band twice, then a narrower one

@@ -1,5 +1,5 @@
 """The assumptions rospy_compat makes about the installed rospy and actionlib, one test each: a new version that
-breaks one fails here (src/cssr_system/animate_behaviour/rospy_compat.py)."""
+breaks one fails here (src/cssr_system/ros1/rospy_compat.py)."""
 import inspect
 from types import SimpleNamespace
 
@@ -8,7 +8,7 @@ import rospy.impl.tcpros_base
 import rospy.topics
 from actionlib_msgs.msg import GoalStatusArray
 
-from cssr_system.animate_behaviour.rospy_compat import caller_of, has_subscriber_other_than, server_ready
+from cssr_system.ros1.rospy_compat import caller_of, has_subscriber_other_than, server_ready
 
 ACTION_CLIENT_SOURCE = inspect.getsource(actionlib.ActionClient.__init__)
 

@@ -8,13 +8,13 @@ from conftest import default_configuration
 from fakes import FakeClient, FakeLog
 
 from cssr_system.animate_behaviour import contract
-from cssr_system.animate_behaviour.core.session import CANCELLED, DISABLED, DURATION_ELAPSED, HOME_LEAD, REPLACED
-from cssr_system.animate_behaviour.core.base_stream import BaseStream
-from cssr_system.animate_behaviour.core.events import (AnimateCancel, AnimateGoal, ControllerConnected, Disable,
-                                                       Enable, GoalDone, Reconfigure)
-from cssr_system.animate_behaviour.core.joint_states import FeedState
-from cssr_system.animate_behaviour.core.part_stream import MEASURE_LEAD, PartStream
-from cssr_system.animate_behaviour.core.supervisor import Supervisor
+from cssr_system.core.base_stream import BaseStream
+from cssr_system.core.events import (AnimateCancel, AnimateGoal, ControllerConnected, Disable,
+                                     Enable, GoalDone, Reconfigure)
+from cssr_system.core.joint_states import FeedState
+from cssr_system.core.part_stream import MEASURE_LEAD, PartStream
+from cssr_system.core.session import CANCELLED, DISABLED, DURATION_ELAPSED, HOME_LEAD, REPLACED
+from cssr_system.core.supervisor import Supervisor
 
 TOPICS = {"RArm": "/pepper_dcm/RightArm_controller/follow_joint_trajectory",
           "Leg": "/pepper_dcm/Pelvis_controller/follow_joint_trajectory"}

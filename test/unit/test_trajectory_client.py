@@ -1,14 +1,14 @@
-"""The FollowJointTrajectory goal of a planned trajectory (node/trajectory_client.py goal_message): every point's
+"""The FollowJointTrajectory goal of a planned trajectory (ros1/trajectory_client.py goal_message): every point's
 positions, velocities, accelerations and time, to the nanosecond, as planned."""
 import io
 
 import numpy
 from control_msgs.msg import FollowJointTrajectoryActionGoal
 
-from cssr_system.animate_behaviour.motion.planners import GOAL_TIME_TOLERANCE, settled
-from cssr_system.animate_behaviour.motion.trajectory_timing import time_trajectory
-from cssr_system.animate_behaviour.node.trajectory_client import goal_message
+from cssr_system.motion.planners import GOAL_TIME_TOLERANCE, settled
+from cssr_system.motion.trajectory_timing import time_trajectory
 from cssr_system.pepper.joint_table import PARTS
+from cssr_system.ros1.trajectory_client import goal_message
 
 
 def planned(part: str, seed: int):

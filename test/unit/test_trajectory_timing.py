@@ -11,10 +11,10 @@ import pytest
 from hypothesis import given, settings, strategies as st
 from conftest import ROBOT_PARTS, default_configuration
 
-from cssr_system.animate_behaviour.motion import trajectory_timing
-from cssr_system.animate_behaviour.motion.trajectory_timing import (TimedTrajectory, speed_caps, time_trajectory,
-                                                                    to_points)
-from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng, random_waypoints
+from cssr_system.motion import trajectory_timing
+from cssr_system.motion.trajectory_timing import (TimedTrajectory, speed_caps, time_trajectory,
+                                                  to_points)
+from cssr_system.motion.waypoints import animated_parts, make_rng, random_waypoints
 from cssr_system.pepper.joint_table import JOINTS, PARTS, SPEED_FRACTION
 from cssr_system.pepper.trajectory_interpolation import (QUINTIC, JointTrajectorySpline, evaluate_polynomial,
                                                          quintic_coefficients, sample_trajectory)

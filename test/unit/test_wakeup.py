@@ -1,4 +1,4 @@
-"""Unit tests of what the node's main thread sleeps on (node/wakeup.py), with real signals and threads."""
+"""Unit tests of what the node's main thread sleeps on (ros1/wakeup.py), with real signals and threads."""
 import os
 import signal
 import threading
@@ -6,7 +6,7 @@ import time
 
 import pytest
 
-from cssr_system.animate_behaviour.node.wakeup import Wakeup
+from cssr_system.ros1.wakeup import Wakeup
 
 PROMPT = 0.5  # s: generous for a loaded machine, and far below the waits' 10 s
 

@@ -5,9 +5,9 @@ from hypothesis import given, settings, strategies as st
 from conftest import ROBOT_PARTS, SIMULATOR_PARTS, default_configuration
 
 from cssr_system.animate_behaviour.configuration import Configuration
-from cssr_system.animate_behaviour.motion.waypoints import (JointBounds, PartMotion, animated_parts,
-                                                            joint_bounds, leg_pattern, make_rng,
-                                                            maximum_range, random_waypoints)
+from cssr_system.motion.waypoints import (JointBounds, PartMotion, animated_parts,
+                                          joint_bounds, leg_pattern, make_rng,
+                                          maximum_range, random_waypoints)
 from cssr_system.pepper.joint_table import JOINTS, PARTS
 
 

@@ -1,6 +1,7 @@
-"""The node's console lines from its ROS-free parts: one Python logger, which each front-end routes to its ROS's
-console and log (node/main.py on ROS 1: rospy's ``rosout`` logger; ros2/animate_behaviour_node.py: the node's
-rclpy logger). Debug lines appear with verboseMode (`set_verbose`)."""
+"""Console lines. The node's, from its ROS-free parts: one Python logger, which each front-end routes to its ROS's
+console and log (ros1/animate_behaviour_main.py: rospy's ``rosout`` logger; ros2/animate_behaviour_node.py: the
+node's rclpy logger); debug lines appear with verboseMode (`set_verbose`). The tools' (the demo's driver and
+gesture player, the recorder): one plain line each (`say`)."""
 import logging
 
 from cssr_system.animate_behaviour.contract import NODE_NAME
@@ -56,3 +57,9 @@ class Heartbeat:
         if now >= self._due:
             console.info("%s: running.", NODE_NAME)
             self._due = now + self._period
+
+
+def say(node_name: str, text: str) -> None:
+    """One line, ``<node_name>: <text>``, printed at once (under roslaunch stdout is a pipe, which would hold it
+    back)."""
+    print("%s: %s" % (node_name, text), flush=True)

@@ -54,8 +54,8 @@ from typing import Any, Callable, Dict, List, NamedTuple, Optional
 
 import numpy
 
+from cssr_system.animate_behaviour.console import console
 from cssr_system.animate_behaviour.contract import ERROR, NODE_NAME
-from cssr_system.animate_behaviour.core.console import console
 
 LOG_FILE_NAME = "animateBehaviourLogFile.log"
 DEFAULT_MAX_BYTES = 10 * 1024 * 1024

@@ -6,9 +6,9 @@ from typing import Callable, Tuple
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import ConfigurationError
+from cssr_system.animate_behaviour.console import console
 from cssr_system.animate_behaviour.contract import ACCEPTED_STATES, DISABLED, NODE_NAME, parse_activation_state
-from cssr_system.animate_behaviour.core.console import console
-from cssr_system.animate_behaviour.core.events import Disable, Enable
+from cssr_system.core.events import Disable, Enable
 
 SERVICE_REPLY_TIMEOUT = 0.08  # s a service waits for the supervisor to apply a request
 

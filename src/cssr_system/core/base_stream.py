@@ -6,12 +6,12 @@ from typing import Callable, Optional
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import Configuration
+from cssr_system.animate_behaviour.console import console
 from cssr_system.animate_behaviour.contract import NODE_NAME, PURPOSE_ANIMATE, PURPOSE_HOME
-from cssr_system.animate_behaviour.core.console import console
-from cssr_system.animate_behaviour.motion.base_rotation import BaseRotationPlanner, heading_after_interruption
-from cssr_system.animate_behaviour.core.foreign_motion import TWIST
-from cssr_system.animate_behaviour.core.motion_stream import MotionStream, StreamState
 from cssr_system.animate_behaviour.topics import WHEELS_KEY
+from cssr_system.core.foreign_motion import TWIST
+from cssr_system.core.motion_stream import MotionStream, StreamState
+from cssr_system.motion.base_rotation import BaseRotationPlanner, heading_after_interruption
 from cssr_system.pepper.joint_table import VELOCITY, base_busy_time, wheels_command_kind
 
 IDLE, ANIMATING, YIELDING, WAITING, HOMING = (StreamState.IDLE, StreamState.ANIMATING, StreamState.YIELDING,

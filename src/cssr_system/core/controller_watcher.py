@@ -11,9 +11,9 @@ import time
 from typing import Callable, Dict, List, Set
 
 from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.console import console
 from cssr_system.animate_behaviour.contract import NODE_NAME
-from cssr_system.animate_behaviour.core.console import console
-from cssr_system.animate_behaviour.core.events import ControllerConnected, ControllerLost
+from cssr_system.core.events import ControllerConnected, ControllerLost
 
 WATCH_PERIOD = 0.5  # s between checks of the controllers
 WAIT_REPORT_PERIOD = 10.0  # s between log lines about a controller that is still missing

@@ -8,7 +8,7 @@ import threading
 from collections import defaultdict
 from typing import Callable, Dict, Iterable, Set, Tuple
 
-from cssr_system.animate_behaviour.core.events import ForeignGoal, ForeignResult
+from cssr_system.core.events import ForeignGoal, ForeignResult
 
 
 class ForeignGoals:

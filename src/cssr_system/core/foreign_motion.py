@@ -16,7 +16,7 @@ from typing import Callable, Dict, NamedTuple, Optional, Sequence, Tuple
 
 import numpy
 
-from cssr_system.animate_behaviour.motion.joint_angle_stream import set_angles_duration
+from cssr_system.motion.joint_angle_stream import set_angles_duration
 from cssr_system.pepper.joint_table import PARTS, centre_of
 
 GOAL, COMMAND, TWIST, JOINT_ANGLES = "goal", "command", "twist", "joint_angles"

@@ -1,7 +1,7 @@
 """What a part stream (core/part_stream.py) keeps of the goals it sends, and the controller client it sends them
 through (README: "Controllers: what each goal carries").
 
-The client is the front-end's (node/trajectory_client.py on ROS 1, ros2/trajectory_client.py on ROS 2):
+The client is the front-end's (ros1/trajectory_client.py on ROS 1, ros2/trajectory_client.py on ROS 2):
 
 - ``client.goal(joints, timed)``: the FollowJointTrajectory goal of a planned trajectory (`planners.settled` already
   applied), built before it is sent: a stop builds every part's goal before the first one leaves;
@@ -13,7 +13,7 @@ from typing import NamedTuple, Optional
 
 import numpy
 
-from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory, to_points
+from cssr_system.motion.trajectory_timing import TimedTrajectory, to_points
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
 
 # A goal's end, as the log names it: actionlib's names, which the ROS 2 front-end maps its own states onto.

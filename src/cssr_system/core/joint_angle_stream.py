@@ -15,7 +15,7 @@ homeOnDisable, to where it is measured now.
 The supervisor thread is the only caller. What the stream needs from the outside is injected, so that unit tests
 drive it with a fake topic and a fake clock:
 
-- ``topic``: the front-end's shared JointAngles publisher (node/joint_angles_topic.py on ROS 1,
+- ``topic``: the front-end's shared JointAngles publisher (ros1/joint_angles_topic.py on ROS 1,
   ros2/joint_angles_topic.py on ROS 2: ``name``, ``send(angles, now)``, ``listened()``);
 - ``clock``: seconds, on the clock naoqi_driver's joints move on (0 while a simulated clock does not run yet);
 - ``positions``: the measured positions of a list of joints, or None when unknown;
@@ -28,14 +28,14 @@ from typing import Callable, NamedTuple, Optional
 import numpy
 
 from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.console import console
 from cssr_system.animate_behaviour.contract import NODE_NAME, PURPOSE_ANIMATE, PURPOSE_HOME
-from cssr_system.animate_behaviour.core.console import console
-from cssr_system.animate_behaviour.motion import joint_angle_stream as streaming
-from cssr_system.animate_behaviour.motion.planners import Planner
-from cssr_system.animate_behaviour.motion.trajectory_timing import to_points
-from cssr_system.animate_behaviour.motion.waypoints import PartMotion
-from cssr_system.animate_behaviour.core.motion_stream import PartMotionStream, StreamState
-from cssr_system.animate_behaviour.core.part_stream import HOME_MAX_DURATION, TRANSITIONS
+from cssr_system.core.motion_stream import PartMotionStream, StreamState
+from cssr_system.core.part_stream import HOME_MAX_DURATION, TRANSITIONS
+from cssr_system.motion import joint_angle_stream as streaming
+from cssr_system.motion.planners import Planner
+from cssr_system.motion.trajectory_timing import to_points
+from cssr_system.motion.waypoints import PartMotion
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
 

@@ -12,7 +12,7 @@ from typing import Callable, Dict, Optional, Set
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import NODE_NAME
-from cssr_system.animate_behaviour.core.foreign_motion import COMMAND, DEFAULT_QUIET_TIME, ForeignMotionTracker
+from cssr_system.core.foreign_motion import COMMAND, DEFAULT_QUIET_TIME, ForeignMotionTracker
 
 
 class StreamState(enum.Enum):

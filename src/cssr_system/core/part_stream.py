@@ -21,16 +21,16 @@ from typing import Callable, Optional
 import numpy
 
 from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.console import console
 from cssr_system.animate_behaviour.contract import NODE_NAME, PURPOSE_ANIMATE, PURPOSE_HOME
-from cssr_system.animate_behaviour.core.console import console
-from cssr_system.animate_behaviour.core.goals import (ABORTED, GOAL_TOLERANCE_VIOLATED, SUCCEEDED, OutgoingGoal,
-                                                      RunningGoal)
-from cssr_system.animate_behaviour.motion.planners import HomePlanner, Planner, settled
-from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory
-from cssr_system.animate_behaviour.motion.waypoints import PartMotion
-from cssr_system.animate_behaviour.core.events import GoalDone
-from cssr_system.animate_behaviour.core.foreign_motion import DEFAULT_QUIET_TIME
-from cssr_system.animate_behaviour.core.motion_stream import PartMotionStream, StreamState
+from cssr_system.core.events import GoalDone
+from cssr_system.core.foreign_motion import DEFAULT_QUIET_TIME
+from cssr_system.core.goals import (ABORTED, GOAL_TOLERANCE_VIOLATED, SUCCEEDED, OutgoingGoal,
+                                    RunningGoal)
+from cssr_system.core.motion_stream import PartMotionStream, StreamState
+from cssr_system.motion.planners import HomePlanner, Planner, settled
+from cssr_system.motion.trajectory_timing import TimedTrajectory
+from cssr_system.motion.waypoints import PartMotion
 from cssr_system.pepper.joint_table import PARTS
 
 HOME_MAX_DURATION = 2.0  # s; longer returns are reported (the speed cap wins over this bound)

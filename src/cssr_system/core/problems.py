@@ -1,8 +1,8 @@
 """How the node reports what goes wrong while it runs (README: "Faults"), on either ROS: one console line and one
 `error` line in the event log, and the thread that met it goes on."""
 from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.console import console
 from cssr_system.animate_behaviour.contract import NODE_NAME
-from cssr_system.animate_behaviour.core.console import console
 
 
 class Problems:

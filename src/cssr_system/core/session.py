@@ -3,7 +3,7 @@ and whether it is ending. The supervisor (core/supervisor.py) decides with it; t
 the goals and publishes their feedback."""
 from typing import Optional
 
-from cssr_system.animate_behaviour.motion.planners import HOME_GESTURE_DURATION, SETTLE_TIME
+from cssr_system.motion.planners import HOME_GESTURE_DURATION, SETTLE_TIME
 
 FEEDBACK_PERIOD = 1.0  # s between feedback messages
 # The parts start home this long before a goal's duration ends, so that they are at their centres when it does:

@@ -3,7 +3,7 @@
 The services, the action clients' callbacks, the controller watcher, the watch on other nodes and the signal
 handlers only post events (core/events.py) to its queue; it applies them to the part streams (core/part_stream.py,
 core/joint_angle_stream.py) and the base stream (core/base_stream.py), runs what is due in time, and publishes the
-status. It does no ROS communication of its own: the front-end (node/animate_behaviour_node.py on ROS 1,
+status. It does no ROS communication of its own: the front-end (ros1/animate_behaviour_node.py on ROS 1,
 ros2/animate_behaviour_node.py on ROS 2) injects the streams' factories, the clock and the publishers, so unit
 tests drive it with fakes.
 """
@@ -13,21 +13,21 @@ from typing import Callable, Dict, List, Optional
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import TRAJECTORY_ACTUATION, Configuration, configuration_items
+from cssr_system.animate_behaviour.console import console, set_verbose
 from cssr_system.animate_behaviour.contract import NODE_NAME
 from cssr_system.animate_behaviour.live_settings import changed_settings
-from cssr_system.animate_behaviour.motion.styles import MotionStyle
-from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng, narrow_bands
-from cssr_system.animate_behaviour.core.base_stream import BaseStream
-from cssr_system.animate_behaviour.core.console import console, set_verbose
-from cssr_system.animate_behaviour.core.events import (AnimateCancel, AnimateGoal, ControllerConnected, ControllerLost,
-                                                       Disable, Enable, ForeignCommand, ForeignGoal, ForeignJointAngles,
-                                                       ForeignResult, ForeignTwist, GoalDone, Reconfigure, Shutdown)
-from cssr_system.animate_behaviour.core.foreign_motion import GOAL, JOINT_ANGLES
-from cssr_system.animate_behaviour.core.joint_states import FeedState
-from cssr_system.animate_behaviour.core.part_stream import PartStream
-from cssr_system.animate_behaviour.core.session import CANCELLED, DISABLED, DURATION_ELAPSED, REPLACED, Session
-from cssr_system.animate_behaviour.core.status import part_rows
 from cssr_system.animate_behaviour.topics import WHEELS_KEY
+from cssr_system.core.base_stream import BaseStream
+from cssr_system.core.events import (AnimateCancel, AnimateGoal, ControllerConnected, ControllerLost,
+                                     Disable, Enable, ForeignCommand, ForeignGoal, ForeignJointAngles,
+                                     ForeignResult, ForeignTwist, GoalDone, Reconfigure, Shutdown)
+from cssr_system.core.foreign_motion import GOAL, JOINT_ANGLES
+from cssr_system.core.joint_states import FeedState
+from cssr_system.core.part_stream import PartStream
+from cssr_system.core.session import CANCELLED, DISABLED, DURATION_ELAPSED, REPLACED, Session
+from cssr_system.core.status import part_rows
+from cssr_system.motion.styles import MotionStyle
+from cssr_system.motion.waypoints import animated_parts, make_rng, narrow_bands
 from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, PARTS
 
 LONGEST_WAIT = 0.5  # s the supervisor sleeps at most while anything may be due

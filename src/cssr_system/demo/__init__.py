@@ -1,4 +1,4 @@
-"""The demo (`make demo`, launch/animateBehaviourDemo.launch): its driver node, which enables the node,
-prints what moves and disables it (`driver`), the gesture player that sends a gesture as another node
-would (`gesture_player`), and their pure parts (`live_lines`, `gesture`). The recorder that writes the
-recording and its plot is in `cssr_system.animate_behaviour.recording.recorder_node`."""
+"""The demo's ROS-free parts (`make demo`, launch/animateBehaviourDemo.launch): the run's schedule, lines and verdict
+(`demo_run`, `live_lines`) and the gesture another node plays (`gesture`). Its nodes are each front-end's:
+`demo_driver` (enables the node, prints what moves, disables it), `gesture_player` and `recorder_node` in
+cssr_system.ros1 and cssr_system.ros2."""

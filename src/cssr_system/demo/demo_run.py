@@ -13,10 +13,10 @@ import time
 from typing import Callable, List, Optional, Sequence, Tuple
 
 from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour import console
 from cssr_system.animate_behaviour.contract import DISABLED, ENABLED, REPLY_SUCCESS, SERVICE_PATH
-from cssr_system.animate_behaviour.demo import console
-from cssr_system.animate_behaviour.demo.live_lines import DISABLE, ENGAGED, GESTURE, LiveWindow, schedule, status_line
 from cssr_system.animate_behaviour.event_log import read_log
+from cssr_system.demo.live_lines import DISABLE, ENGAGED, GESTURE, LiveWindow, schedule, status_line
 
 NODE_NAME = "animateBehaviourDemo"
 say = functools.partial(console.say, NODE_NAME)

@@ -13,9 +13,9 @@ from typing import Deque, List, Optional, Sequence, Tuple
 
 import numpy
 
-from cssr_system.animate_behaviour.recording.recording import (BASE_LABEL, MOTION_THRESHOLD, moving_parts,
-                                                               unwrap_heading)
 from cssr_system.pepper.joint_table import PARTS
+from cssr_system.recording.recording import (BASE_LABEL, MOTION_THRESHOLD, moving_parts,
+                                             unwrap_heading)
 
 MOVING_COLUMN_WIDTH = len(", ".join([part.label for part in PARTS.values()] + [BASE_LABEL]))
 KEPT = 3.0  # s of samples kept

@@ -9,13 +9,13 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import Configuration, configuration_items
 from cssr_system.animate_behaviour.contract import REPLY_SUCCESS
 from cssr_system.animate_behaviour.event_log import LogEntry
-from cssr_system.animate_behaviour.harness.oracle import (ExpectedMotion, JointBound, expected_motion,
-                                                          leg_slot_is_random)
-from cssr_system.animate_behaviour.harness.settings import (HOME_MAX_DURATION, BASE, BASE_STOP_LIMIT,
-                                                            DISABLE_LATENCY, EXACT, FIRST_WAYPOINT_MARGIN,
-                                                            HarnessConfiguration, HarnessTest,
-                                                            JOINT_STOP_LIMIT, LOG_CLOCK_MARGIN, QUIET_WINDOW,
-                                                            TESTS, node_configuration)
+from cssr_system.harness.oracle import (ExpectedMotion, JointBound, expected_motion,
+                                        leg_slot_is_random)
+from cssr_system.harness.settings import (HOME_MAX_DURATION, BASE, BASE_STOP_LIMIT,
+                                          DISABLE_LATENCY, EXACT, FIRST_WAYPOINT_MARGIN,
+                                          HarnessConfiguration, HarnessTest,
+                                          JOINT_STOP_LIMIT, LOG_CLOCK_MARGIN, QUIET_WINDOW,
+                                          TESTS, node_configuration)
 from cssr_system.pepper.joint_table import (RELATIVE, wheels_command_kind, BASE_MAX_ANGULAR_ACCELERATION,
                                             BASE_MAX_ANGULAR_VELOCITY, BASE_VELOCITY_COMMAND_TIMEOUT,
                                             HEAD_PART, JOINTS, PARTS, Part, centre_of)

@@ -8,7 +8,7 @@ from collections import OrderedDict
 from typing import Dict, NamedTuple, Tuple
 
 from cssr_system.animate_behaviour.configuration import Configuration
-from cssr_system.animate_behaviour.harness.settings import TESTS
+from cssr_system.harness.settings import TESTS
 from cssr_system.pepper.joint_table import JOINTS, PARTS, centre_of, part_of, short_name
 
 

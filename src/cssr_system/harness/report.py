@@ -3,10 +3,10 @@
 import datetime
 from typing import List, Optional, Sequence
 
-from cssr_system.animate_behaviour.harness.checks import (HarnessOutcome, format_number, part_label,
-                                                          format_vector)
-from cssr_system.animate_behaviour.harness.oracle import ExpectedMotion
-from cssr_system.animate_behaviour.harness.settings import BASE, HarnessConfiguration, TESTS
+from cssr_system.harness.checks import (HarnessOutcome, format_number, part_label,
+                                        format_vector)
+from cssr_system.harness.oracle import ExpectedMotion
+from cssr_system.harness.settings import BASE, HarnessConfiguration, TESTS
 from cssr_system.pepper.joint_table import PARTS
 
 

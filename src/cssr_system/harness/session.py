@@ -16,10 +16,10 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import (Configuration, configuration_items,
                                                          format_configuration_file, topic_file_path)
 from cssr_system.animate_behaviour.event_log import ROTATED_SUFFIX, LogEntry, read_log
-from cssr_system.animate_behaviour.harness import checks, oracle, report, settings
-from cssr_system.animate_behaviour.recording.recording import unwrap_heading, yaw_from_quaternion
 from cssr_system.animate_behaviour.topics import WHEELS_KEY, TopicFileError, load_topic_map
+from cssr_system.harness import checks, oracle, report, settings
 from cssr_system.pepper.joint_table import RELATIVE, wheels_command_kind
+from cssr_system.recording.recording import unwrap_heading, yaw_from_quaternion
 
 HARNESS_NAME = "animateBehaviourTest"  # the harness's node, on either ROS
 POLL_PERIOD = 0.05  # s between looks at the samples while waiting

@@ -28,9 +28,9 @@ from typing import Dict, List, Tuple
 
 import numpy
 
-from cssr_system.animate_behaviour.motion.planners import Planner
-from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory, speed_caps
-from cssr_system.animate_behaviour.motion.waypoints import PartMotion
+from cssr_system.motion.planners import Planner
+from cssr_system.motion.trajectory_timing import TimedTrajectory, speed_caps
+from cssr_system.motion.waypoints import PartMotion
 from cssr_system.pepper.joint_table import MIRRORED_JOINTS, short_name
 from cssr_system.pepper.trajectory_interpolation import quintic_coefficients
 

@@ -21,8 +21,8 @@ from typing import Optional
 
 import numpy
 
-from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory, time_trajectory
-from cssr_system.animate_behaviour.motion.waypoints import PartMotion, random_waypoints
+from cssr_system.motion.trajectory_timing import TimedTrajectory, time_trajectory
+from cssr_system.motion.waypoints import PartMotion, random_waypoints
 from cssr_system.pepper.joint_table import PARTS
 
 SETTLE_TIME = 0.25  # s a goal that ends at rest holds its last point: 3 control periods at 12 Hz

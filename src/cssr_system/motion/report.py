@@ -17,10 +17,10 @@ from typing import Dict, List, NamedTuple, Sequence, Tuple
 import numpy
 
 from cssr_system.animate_behaviour.configuration import load_configuration, shipped_configuration_path
-from cssr_system.animate_behaviour.motion import joint_angle_stream
-from cssr_system.animate_behaviour.motion.styles import MotionStyle
-from cssr_system.animate_behaviour.motion.trajectory_timing import to_points
-from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng
+from cssr_system.motion import joint_angle_stream
+from cssr_system.motion.styles import MotionStyle
+from cssr_system.motion.trajectory_timing import to_points
+from cssr_system.motion.waypoints import animated_parts, make_rng
 from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, MIRRORED_JOINTS, PARTS, short_name
 from cssr_system.pepper.simulated_pepper import NaoqiDcmDriver, NaoqiDriver
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline

@@ -6,9 +6,9 @@ from typing import Dict, Tuple
 import numpy
 
 from cssr_system.animate_behaviour.configuration import MOTION_STYLES
-from cssr_system.animate_behaviour.motion.breathing import BreathingPlanner
-from cssr_system.animate_behaviour.motion.planners import Planner, RandomPlanner
-from cssr_system.animate_behaviour.motion.waypoints import PartMotion
+from cssr_system.motion.breathing import BreathingPlanner
+from cssr_system.motion.planners import Planner, RandomPlanner
+from cssr_system.motion.waypoints import PartMotion
 
 RANDOM, BREATHING = MOTION_STYLES
 # The base in the breathing style turns rarely and slowly: longer pauses, half the peak speed.

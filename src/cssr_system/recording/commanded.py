@@ -28,11 +28,11 @@ from typing import Dict, Iterable, List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy
 
-from cssr_system.animate_behaviour.recording.recording import Commanded, Mark
 from cssr_system.pepper.joint_table import JOINTS, PARTS
 from cssr_system.pepper.simulated_pepper import NaoqiDriver, joint_angles_problem
 from cssr_system.pepper.trajectory_interpolation import (JointTrajectorySpline, TrajectoryError, TrajectoryPoint,
                                                          sample_trajectory)
+from cssr_system.recording.recording import Commanded, Mark
 
 
 class SentGoal(NamedTuple):

@@ -17,12 +17,12 @@ import sys
 from typing import Any, Dict, Optional, Sequence, Tuple
 
 from cssr_system.animate_behaviour.contract import ENABLED
-from cssr_system.animate_behaviour.recording.recording import (BAND_TOLERANCE, Recording, heading_at_time,
-                                                               band_excess, enabled_intervals,
-                                                               heading_excess, plotted_parts,
-                                                               bands_from_configuration_file, bands_from_log,
-                                                               read_recording)
 from cssr_system.pepper.joint_table import PARTS
+from cssr_system.recording.recording import (BAND_TOLERANCE, Recording, heading_at_time,
+                                             band_excess, enabled_intervals,
+                                             heading_excess, plotted_parts,
+                                             bands_from_configuration_file, bands_from_log,
+                                             read_recording)
 
 
 def _title_of(recording: Recording) -> str:
@@ -241,7 +241,7 @@ PLOT_COMMAND_USAGE = """plotAnimation: plots a recorded animateBehaviour run (jo
 
 rosrun cssr_system plotAnimation.py RECORDING [--log LOGFILE] [--config FILE] [-o OUT.png]
 
-RECORDING is a recording file (format: cssr_system.animate_behaviour.recording.recording), e.g. the demo's
+RECORDING is a recording file (format: cssr_system.recording.recording), e.g. the demo's
 <workspace>/demo/animation.json. The allowed band of each joint comes from the node's log file when
 --log is given (its goal_sent entries during the run), else from the recording itself, else from
 the configuration (--config, default the package's, with the recording's platform and behaviour).

@@ -470,7 +470,7 @@ def run_setting(node_parameters: Mapping[str, Any], ros_home: Optional[str]) -> 
 def bands_from_configuration(config: Any, available_parts: Iterable[str]) -> "OrderedDict[str, JointBand]":
     """The joint bands a configuration (``configuration.Configuration``) gives the parts of a
     platform (``available_parts``: keys of its topic file), with ``motion.waypoints``."""
-    from cssr_system.animate_behaviour.motion.waypoints import animated_parts  # numpy only, but keeps imports light
+    from cssr_system.motion.waypoints import animated_parts  # numpy only, but keeps imports light
     bands = OrderedDict()  # type: OrderedDict[str, JointBand]
     for motion in animated_parts(config, available_parts):
         for bound, moves in zip(motion.bounds, motion.moving):

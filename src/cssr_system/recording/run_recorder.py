@@ -16,19 +16,19 @@ from typing import Any, Dict, List, Optional, Sequence, Tuple
 
 import numpy
 
-from cssr_system.animate_behaviour.demo import console
+from cssr_system.animate_behaviour import console
 from cssr_system.animate_behaviour.event_log import read_log
-from cssr_system.animate_behaviour.recording.commanded import (CancelRequest, GoalResult, Measured, SentCall,
-                                                               SentGoal, call_marks, commanded_by, commanded_by_calls,
-                                                               controller_pieces, goal_marks)
-from cssr_system.animate_behaviour.recording.plot import plot_recording
-from cssr_system.animate_behaviour.recording.recording import (PLOT_FILE_NAME, RECORDING_FILE_NAME,
-                                                               SETTING_MARK_WIDTH, BandChange, Commanded, Mark,
-                                                               Recording, RunSetting, activations_from_log,
-                                                               band_changes_from_log, bands_from_configuration_file,
-                                                               bands_from_log, setting_changes_from_log,
-                                                               unwrap_heading, write_recording, yaw_from_quaternion)
 from cssr_system.pepper.joint_table import WHEEL_JOINTS
+from cssr_system.recording.commanded import (CancelRequest, GoalResult, Measured, SentCall,
+                                             SentGoal, call_marks, commanded_by, commanded_by_calls,
+                                             controller_pieces, goal_marks)
+from cssr_system.recording.plot import plot_recording
+from cssr_system.recording.recording import (PLOT_FILE_NAME, RECORDING_FILE_NAME,
+                                             SETTING_MARK_WIDTH, BandChange, Commanded, Mark,
+                                             Recording, RunSetting, activations_from_log,
+                                             band_changes_from_log, bands_from_configuration_file,
+                                             bands_from_log, setting_changes_from_log,
+                                             unwrap_heading, write_recording, yaw_from_quaternion)
 
 NODE_NAME = "animateBehaviourRecorder"
 DEFAULT_FOLDER = "animateBehaviourDemo"  # in $ROS_HOME

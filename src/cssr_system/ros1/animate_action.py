@@ -11,13 +11,13 @@ import actionlib
 import rospy
 
 from cssr_system.animate_behaviour.configuration import ConfigurationError
+from cssr_system.animate_behaviour.console import console
 from cssr_system.animate_behaviour.contract import ANIMATE_ACTION_NAME, NODE_NAME
 from cssr_system.animate_behaviour.live_settings import goal_overrides
-from cssr_system.animate_behaviour.core.console import console
-from cssr_system.animate_behaviour.core.events import AnimateCancel, AnimateGoal
-from cssr_system.animate_behaviour.node.status import part_statuses
-from cssr_system.animate_behaviour.rospy_compat import caller_of_goal
+from cssr_system.core.events import AnimateCancel, AnimateGoal
 from cssr_system.msg import AnimateAction, AnimateFeedback, AnimateResult
+from cssr_system.ros1.rospy_compat import caller_of_goal
+from cssr_system.ros1.status import part_statuses
 
 STATUS_FREQUENCY = 1.0  # Hz of the action's status between changes
 

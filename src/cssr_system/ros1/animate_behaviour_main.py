@@ -19,16 +19,16 @@ import rospy
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import ConfigurationError
+from cssr_system.animate_behaviour.console import Heartbeat, route_console
 from cssr_system.animate_behaviour.contract import NODE_NAME
-from cssr_system.animate_behaviour.core.console import Heartbeat, route_console
-from cssr_system.animate_behaviour.node.parameters import (config_file_parameter, load_node_configuration,
-                                                           parameter_overrides)
-from cssr_system.animate_behaviour.node.animate_behaviour_node import AnimateBehaviourNode
-from cssr_system.animate_behaviour.node.wakeup import Wakeup
+from cssr_system.ros1.animate_behaviour_node import AnimateBehaviourNode
+from cssr_system.ros1.parameters import (config_file_parameter, load_node_configuration,
+                                         parameter_overrides)
+from cssr_system.ros1.wakeup import Wakeup
 
 TEARDOWN_TIME = 0.1  # s at most for rospy's teardown (unregistering from the master), once the robot is stopped
 # s between checks that the supervisor still runs and rospy has not shut down. A signal, a stop request and the
-# supervisor's end wake the main thread at once (node/wakeup.py): this only bounds what nothing announces.
+# supervisor's end wake the main thread at once (ros1/wakeup.py): this only bounds what nothing announces.
 ALIVE_CHECK_PERIOD = 1.0
 
 

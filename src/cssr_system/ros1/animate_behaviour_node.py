@@ -12,31 +12,30 @@ from sensor_msgs.msg import JointState
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import JOINT_ANGLES_ACTUATION, Configuration, configuration_items
+from cssr_system.animate_behaviour.console import console
 from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC
-from cssr_system.animate_behaviour.core.base_stream import BaseStream
-from cssr_system.animate_behaviour.core.console import console
-from cssr_system.animate_behaviour.core.controller_watcher import ControllerWatcher
-from cssr_system.animate_behaviour.core.events import Shutdown
-from cssr_system.animate_behaviour.core.joint_angle_stream import JointAngleStream
-from cssr_system.animate_behaviour.core.joint_states import JointStateCache, JointStateFeed, SubscriptionSwitch
-from cssr_system.animate_behaviour.core.part_stream import PartStream
-from cssr_system.animate_behaviour.core.problems import Problems
-from cssr_system.animate_behaviour.core.supervisor import Supervisor
 from cssr_system.animate_behaviour.event_log import BackgroundLog, EventLog, default_log_path
-from cssr_system.animate_behaviour.motion.styles import MotionStyle
-from cssr_system.animate_behaviour.motion.waypoints import animated_parts, make_rng
-from cssr_system.animate_behaviour.node.animate_action import AnimateActionServer
-from cssr_system.animate_behaviour.node.foreign_watch import ForeignCommandWatch
-from cssr_system.animate_behaviour.node.joint_angles_topic import JointAnglesTopic
-from cssr_system.animate_behaviour.node.live_settings_server import LiveSettingsServer
-from cssr_system.animate_behaviour.node.parameters import load_node_configuration
-from cssr_system.animate_behaviour.node.services import ActivationServices
-from cssr_system.animate_behaviour.node.status import StatusPublisher
-from cssr_system.animate_behaviour.node.trajectory_client import TrajectoryClient, rehearse
-from cssr_system.animate_behaviour.rospy_compat import has_subscriber_other_than, write_at_once
 from cssr_system.animate_behaviour.topics import joint_angles_topic
+from cssr_system.core.base_stream import BaseStream
+from cssr_system.core.controller_watcher import ControllerWatcher
+from cssr_system.core.events import Shutdown
+from cssr_system.core.joint_angle_stream import JointAngleStream
+from cssr_system.core.joint_states import JointStateCache, JointStateFeed, SubscriptionSwitch
+from cssr_system.core.part_stream import PartStream
+from cssr_system.core.problems import Problems
+from cssr_system.core.supervisor import Supervisor
+from cssr_system.motion.styles import MotionStyle
+from cssr_system.motion.waypoints import animated_parts, make_rng
 from cssr_system.package_files import package_dir, package_version
 from cssr_system.pepper.joint_table import PARTS
+from cssr_system.ros1.animate_action import AnimateActionServer
+from cssr_system.ros1.foreign_watch import ForeignCommandWatch
+from cssr_system.ros1.joint_angles_topic import JointAnglesTopic
+from cssr_system.ros1.parameters import LiveSettingsServer, load_node_configuration
+from cssr_system.ros1.rospy_compat import has_subscriber_other_than, write_at_once
+from cssr_system.ros1.services import ActivationServices
+from cssr_system.ros1.status import StatusPublisher
+from cssr_system.ros1.trajectory_client import TrajectoryClient, rehearse
 
 JOINT_STATES_QUEUE = 1  # only the latest /joint_states message matters
 

@@ -35,17 +35,17 @@ from std_msgs.msg import Empty
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import SERVICE_PATH, STATUS_TOPIC
-from cssr_system.animate_behaviour.demo.demo_run import (EXIT_FAILED, NODE_NAME, SERVICE_CALL_TIMEOUT,
-                                                         STOP_DISABLE_TIMEOUT, DemoError, DemoRun, Wait, drive,
-                                                         say, service_failure, write_outcome)
-from cssr_system.animate_behaviour.demo.gesture import PLAY_TOPIC
 from cssr_system.animate_behaviour.live_settings import PRESETS
-from cssr_system.animate_behaviour.recording.recording import (BASE_LABEL, RunSetting, run_setting,
-                                                               yaw_from_quaternion)
 from cssr_system.animate_behaviour.topics import DEFAULT_JOINT_ANGLES_TOPIC
-from cssr_system.pepper.joint_table import PARTS
+from cssr_system.demo.demo_run import (EXIT_FAILED, NODE_NAME, SERVICE_CALL_TIMEOUT,
+                                       STOP_DISABLE_TIMEOUT, DemoError, DemoRun, Wait, drive,
+                                       say, service_failure, write_outcome)
+from cssr_system.demo.gesture import PLAY_TOPIC
 from cssr_system.msg import AnimateBehaviourStatus
+from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
+from cssr_system.recording.recording import (BASE_LABEL, RunSetting, run_setting,
+                                             yaw_from_quaternion)
 
 
 def records_the_node(recorder: str, node: str = "/" + contract.NODE_NAME,

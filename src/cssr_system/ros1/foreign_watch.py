@@ -17,11 +17,11 @@ from geometry_msgs.msg import Twist
 from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 from trajectory_msgs.msg import JointTrajectory
 
-from cssr_system.animate_behaviour.rospy_compat import caller_of, caller_of_goal
-from cssr_system.animate_behaviour.core.events import ForeignCommand, ForeignJointAngles, ForeignTwist
-from cssr_system.animate_behaviour.core.foreign_goals import ForeignGoals
-from cssr_system.animate_behaviour.core.foreign_motion import set_angles_on_our_joints
+from cssr_system.core.events import ForeignCommand, ForeignJointAngles, ForeignTwist
+from cssr_system.core.foreign_goals import ForeignGoals
+from cssr_system.core.foreign_motion import set_angles_on_our_joints
 from cssr_system.pepper.joint_table import command_topic
+from cssr_system.ros1.rospy_compat import caller_of, caller_of_goal
 
 RUNNING_STATES = (GoalStatus.PENDING, GoalStatus.ACTIVE, GoalStatus.PREEMPTING, GoalStatus.RECALLING)
 

@@ -22,12 +22,12 @@ from std_msgs.msg import Empty
 from trajectory_msgs.msg import JointTrajectoryPoint
 
 from cssr_system.animate_behaviour import contract
-from cssr_system.animate_behaviour.demo import console
-from cssr_system.animate_behaviour.demo.gesture import (GESTURE_DURATION, GESTURE_PART, NODE_NAME, PLAY_TOPIC,
-                                                        gesture_points)
-from cssr_system.animate_behaviour.node.trajectory_client import goal_state_name
-from cssr_system.animate_behaviour.recording.recording import run_setting
+from cssr_system.animate_behaviour import console
+from cssr_system.demo.gesture import (GESTURE_DURATION, GESTURE_PART, NODE_NAME, PLAY_TOPIC,
+                                      gesture_points)
 from cssr_system.pepper.joint_table import PARTS
+from cssr_system.recording.recording import run_setting
+from cssr_system.ros1.trajectory_client import goal_state_name
 
 say = functools.partial(console.say, NODE_NAME)
 

@@ -3,7 +3,7 @@
 It checks the node from outside, as its users do: for each selected test (hands, body, rotation, all)
 it writes the node's configuration, enables the node through its service, lets it run, disables it,
 and judges the replies, the node's log file and what the robot did (/joint_states, the base heading
-from odometry or from the Wheels commands). The checks and the report are in cssr_system.animate_behaviour.harness.
+from odometry or from the Wheels commands). The checks and the report are in cssr_system.harness.
 
 Private parameters:
   ~configFile      harness configuration (default <package>/config/animateBehaviourTestConfiguration.ini)
@@ -35,9 +35,9 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import ConfigurationError, shipped_configuration_path
 from cssr_system.animate_behaviour.contract import NODE_PARAMETERS
 from cssr_system.animate_behaviour.event_log import default_log_path
-from cssr_system.animate_behaviour.harness import checks, session, settings
-from cssr_system.animate_behaviour.harness.session import (CONFIG_FILE_NAME, NODE_CONFIG_FILE_NAME, REPORT_FILE_NAME,
-                                                           HarnessError)
+from cssr_system.harness import checks, session, settings
+from cssr_system.harness.session import (CONFIG_FILE_NAME, NODE_CONFIG_FILE_NAME, REPORT_FILE_NAME,
+                                         HarnessError)
 from cssr_system.package_files import PACKAGE_NAME, data_dir, package_dir, package_path
 from cssr_system.srv import setActivation
 

@@ -3,8 +3,8 @@
 import rospy
 from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 
-from cssr_system.animate_behaviour.motion import joint_angle_stream as streaming
-from cssr_system.animate_behaviour.rospy_compat import has_subscriber_other_than, write_at_once
+from cssr_system.motion import joint_angle_stream as streaming
+from cssr_system.ros1.rospy_compat import has_subscriber_other_than, write_at_once
 
 
 def joint_angles_message(angles: streaming.JointAngles, now: float) -> JointAnglesWithSpeed:

@@ -8,7 +8,7 @@ cancels and results on every part's FollowJointTrajectory action (the namespaces
 file) and the setAngles calls on its JointAngles topic. When stopped, it reads the node's log file
 for the enable and disable instants and the joints' bands, and writes into ``~output_dir``:
 
-  animation.json   the recording (format: `cssr_system.animate_behaviour.recording.recording`), with
+  animation.json   the recording (format: `cssr_system.recording.recording`), with
                    ``commanded`` (what the node commanded: its goals replayed as the controller
                    executes them, or its setAngles calls as naoqi_driver executes them, `commanded`)
                    and ``marks`` (every other node's goal on a part, from its receipt to its result,
@@ -33,16 +33,16 @@ from nav_msgs.msg import Odometry
 from sensor_msgs.msg import JointState
 
 from cssr_system.animate_behaviour import contract
-from cssr_system.animate_behaviour.recording.commanded import CancelRequest, GoalResult, SentCall, SentGoal
-from cssr_system.animate_behaviour.recording.recording import RunSetting, run_setting
-from cssr_system.animate_behaviour.recording.run_recorder import (NODE_NAME, RunRecorder, default_output_dir,
-                                                                  say)
-from cssr_system.animate_behaviour.node.trajectory_client import goal_state_name
-from cssr_system.animate_behaviour.rospy_compat import caller_of
 from cssr_system.animate_behaviour.topics import joint_angles_topic
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
 from cssr_system.pepper.trajectory_interpolation import TrajectoryPoint
+from cssr_system.recording.commanded import CancelRequest, GoalResult, SentCall, SentGoal
+from cssr_system.recording.recording import RunSetting, run_setting
+from cssr_system.recording.run_recorder import (NODE_NAME, RunRecorder, default_output_dir,
+                                                say)
+from cssr_system.ros1.rospy_compat import caller_of
+from cssr_system.ros1.trajectory_client import goal_state_name
 
 
 def goal_id_caller(goal_id: str) -> str:

@@ -8,8 +8,8 @@ from std_srvs.srv import SetBool, SetBoolResponse
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import (ACCEPTED_STATES, DISABLED, ENABLED, NODE_NAME, REPLY_FAILURE,
                                                     REPLY_SUCCESS, SERVICE_NAME, SET_ENABLED_SERVICE_NAME)
-from cssr_system.animate_behaviour.core.activation import Activation
-from cssr_system.animate_behaviour.node.parameters import config_file_parameter, load_node_configuration
+from cssr_system.core.activation import Activation
+from cssr_system.ros1.parameters import config_file_parameter, load_node_configuration
 from cssr_system.srv import setActivation, setActivationResponse
 
 

@@ -7,8 +7,8 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 
 from cssr_system.animate_behaviour.configuration import Configuration
 from cssr_system.animate_behaviour.contract import DIAGNOSTICS_TOPIC, NODE_NAME, STATUS_TOPIC
-from cssr_system.animate_behaviour.core.status import StatusChanges, diagnostic_summary, part_rows
 from cssr_system.animate_behaviour.live_settings import moving_parts
+from cssr_system.core.status import StatusChanges, diagnostic_summary, part_rows
 from cssr_system.msg import AnimateBehaviourStatus, PartStatus
 
 

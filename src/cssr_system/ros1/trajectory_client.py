@@ -15,10 +15,10 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.event_log import format_log_line, format_timestamp
-from cssr_system.animate_behaviour.motion.planners import GOAL_TIME_TOLERANCE, Planner, settled
-from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory
-from cssr_system.animate_behaviour.rospy_compat import ignore_feedback, server_ready, write_at_once
+from cssr_system.motion.planners import GOAL_TIME_TOLERANCE, Planner, settled
+from cssr_system.motion.trajectory_timing import TimedTrajectory
 from cssr_system.pepper.joint_table import PARTS
+from cssr_system.ros1.rospy_compat import ignore_feedback, server_ready, write_at_once
 
 _STATE_NAMES = {value: name for name, value in vars(GoalStatus).items() if name.isupper() and isinstance(value, int)}
 

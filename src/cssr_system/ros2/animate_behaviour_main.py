@@ -22,8 +22,8 @@ from rclpy.signals import SignalHandlerOptions
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import ConfigurationError
+from cssr_system.animate_behaviour.console import route_console
 from cssr_system.animate_behaviour.contract import NODE_NAME
-from cssr_system.animate_behaviour.core.console import route_console
 from cssr_system.ros2.animate_behaviour_node import AnimateBehaviourNode
 from cssr_system.ros2.program import on_signals
 

@@ -1,7 +1,7 @@
 """The animateBehaviour node's ROS 2 side (README: "ROS 2"): it makes the event log, the parameters, the status
 publisher, the services, the action clients or the JointAngles publisher, the base publisher and the
 subscriptions, and hands them to the supervisor (core/supervisor.py), which owns the motion state, as the ROS 1
-node (node/animate_behaviour_node.py) does."""
+node (ros1/animate_behaviour_node.py) does."""
 import os
 import threading
 from typing import Dict, Optional, Set
@@ -11,24 +11,24 @@ from sensor_msgs.msg import JointState
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import JOINT_ANGLES_ACTUATION, Configuration, configuration_items
+from cssr_system.animate_behaviour.console import HEARTBEAT_PERIOD, console
 from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC, NODE_NAME
-from cssr_system.animate_behaviour.core.activation import Activation
-from cssr_system.animate_behaviour.core.base_stream import BaseStream
-from cssr_system.animate_behaviour.core.console import HEARTBEAT_PERIOD, console
-from cssr_system.animate_behaviour.core.controller_watcher import ControllerWatcher
-from cssr_system.animate_behaviour.core.events import Shutdown
-from cssr_system.animate_behaviour.core.joint_angle_stream import JointAngleStream
-from cssr_system.animate_behaviour.core.joint_states import JointStateCache, JointStateFeed, SubscriptionSwitch
-from cssr_system.animate_behaviour.core.part_stream import PartStream
-from cssr_system.animate_behaviour.core.problems import Problems
-from cssr_system.animate_behaviour.core.supervisor import Supervisor
 from cssr_system.animate_behaviour.event_log import BackgroundLog, EventLog, default_log_path
 from cssr_system.animate_behaviour.topics import joint_angles_topic
+from cssr_system.core.activation import Activation
+from cssr_system.core.base_stream import BaseStream
+from cssr_system.core.controller_watcher import ControllerWatcher
+from cssr_system.core.events import Shutdown
+from cssr_system.core.joint_angle_stream import JointAngleStream
+from cssr_system.core.joint_states import JointStateCache, JointStateFeed, SubscriptionSwitch
+from cssr_system.core.part_stream import PartStream
+from cssr_system.core.problems import Problems
+from cssr_system.core.supervisor import Supervisor
 from cssr_system.package_files import package_dir, package_version
 from cssr_system.ros2.foreign_watch import ForeignCommandWatch, twist_key
-from cssr_system.ros2.graph import subscribed_by_another_node
 from cssr_system.ros2.joint_angles_topic import JointAnglesTopic
 from cssr_system.ros2.parameters import NodeParameters
+from cssr_system.ros2.rclpy_compat import subscribed_by_another_node
 from cssr_system.ros2.services import ActivationServices
 from cssr_system.ros2.status import StatusPublisher
 from cssr_system.ros2.time_conversion import clock_seconds, seconds_of

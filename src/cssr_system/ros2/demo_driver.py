@@ -4,7 +4,7 @@
       [-p interaction:=false] [-p recorder:=/animateBehaviourRecorder] [-p log_file:=FILE] [-p outcome_file:=FILE]
       [-p startup_timeout:=40.0]
 
-The run of the ROS 1 driver (`cssr_system.animate_behaviour.demo.demo_run`), over rclpy: it waits (at most
+The run of the ROS 1 driver (`cssr_system.demo.demo_run`), over rclpy: it waits (at most
 ``startup_timeout`` s) until the simulated Pepper publishes /joint_states, the node's service
 /animateBehaviour/setActivation is there and the recorder (``recorder``; "" for none) subscribes /joint_states and
 every JointAngles topic the node publishes; after 1 s at rest it enables the node, prints one line a second (the
@@ -34,14 +34,14 @@ from sensor_msgs.msg import JointState
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import SERVICE_PATH, STATUS_TOPIC
-from cssr_system.animate_behaviour.demo.demo_run import (EXIT_FAILED, NODE_NAME, SERVICE_CALL_TIMEOUT,
-                                                         DemoRun, Wait, drive, say, service_failure, write_outcome)
 from cssr_system.animate_behaviour.live_settings import PRESETS, SETTING_KEYS
-from cssr_system.animate_behaviour.recording.recording import BASE_LABEL, yaw_from_quaternion
+from cssr_system.demo.demo_run import (EXIT_FAILED, NODE_NAME, SERVICE_CALL_TIMEOUT,
+                                       DemoRun, Wait, drive, say, service_failure, write_outcome)
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
-from cssr_system.ros2.graph import endpoint_names
+from cssr_system.recording.recording import BASE_LABEL, yaw_from_quaternion
 from cssr_system.ros2.program import call, on_signals, run_node
+from cssr_system.ros2.rclpy_compat import endpoint_names
 from cssr_system.ros2.status import LATCHED
 
 QUEUE_DEPTH = 100

@@ -5,7 +5,7 @@ Goals: an action server publishes its goals' states on the action's status topic
 name ROS 2's action design gives it); a goal whose id is not one of ours (`own_goals`) is another client's.
 Trajectories on a controller's ``joint_trajectory`` topic are always another node's (this node sends goals).
 Twists on the base topic and setAngles calls on naoqi_driver2's JointAngles topic are another node's unless they
-are ours coming back (ros2/own_messages.py). ROS 2 gives no message its publisher, so the other node is named by
+are ours coming back (ros2/rclpy_compat.py). ROS 2 gives no message its publisher, so the other node is named by
 the topic's publishers other than this node."""
 from typing import Callable, Optional, Sequence, Set
 
@@ -16,12 +16,12 @@ from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 from rclpy.qos import qos_profile_action_status_default
 from trajectory_msgs.msg import JointTrajectory
 
-from cssr_system.animate_behaviour.core.events import ForeignCommand, ForeignJointAngles, ForeignTwist
-from cssr_system.animate_behaviour.core.foreign_goals import ForeignGoals
-from cssr_system.animate_behaviour.core.foreign_motion import set_angles_on_our_joints
-from cssr_system.ros2.graph import endpoint_names
+from cssr_system.core.events import ForeignCommand, ForeignJointAngles, ForeignTwist
+from cssr_system.core.foreign_goals import ForeignGoals
+from cssr_system.core.foreign_motion import set_angles_on_our_joints
 from cssr_system.ros2.joint_angles_topic import joint_angles_key
-from cssr_system.ros2.own_messages import OwnMessages
+from cssr_system.ros2.rclpy_compat import endpoint_names
+from cssr_system.ros2.rclpy_compat import OwnMessages
 from cssr_system.ros2.time_conversion import seconds_of
 
 RUNNING_STATES = (GoalStatus.STATUS_ACCEPTED, GoalStatus.STATUS_EXECUTING, GoalStatus.STATUS_CANCELING)

@@ -1,5 +1,5 @@
 """The test harness on ROS 2 (README: "Test harness"): the rclpy side of the harness's session
-(cssr_system.animate_behaviour.harness.session), which runs the same tests, checks and report as on ROS 1.
+(cssr_system.harness.session), which runs the same tests, checks and report as on ROS 1.
 
   python3 -m cssr_system.ros2.harness_runner [--config FILE] [--report FILE] [key:=value ...] [--ros-args ...]
 
@@ -34,9 +34,9 @@ from cssr_system.animate_behaviour.configuration import (KEYS, Configuration, Co
                                                          shipped_configuration_path)
 from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC
 from cssr_system.animate_behaviour.event_log import default_log_path
-from cssr_system.animate_behaviour.harness import checks, session, settings
-from cssr_system.animate_behaviour.harness.session import (CONFIG_FILE_NAME, NODE_CONFIG_FILE_NAME,
-                                                           REPORT_FILE_NAME, HarnessError)
+from cssr_system.harness import checks, session, settings
+from cssr_system.harness.session import (CONFIG_FILE_NAME, NODE_CONFIG_FILE_NAME,
+                                         REPORT_FILE_NAME, HarnessError)
 from cssr_system.package_files import data_dir, package_dir, package_path
 from cssr_system.ros2.parameters import START_UP_KEYS, declared_value
 from cssr_system.ros2.program import call

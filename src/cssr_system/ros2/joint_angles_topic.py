@@ -5,9 +5,9 @@ from typing import Tuple
 import numpy
 from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 
-from cssr_system.animate_behaviour.motion import joint_angle_stream as streaming
-from cssr_system.ros2.graph import subscribed_by_another_node
-from cssr_system.ros2.own_messages import OwnMessages
+from cssr_system.motion import joint_angle_stream as streaming
+from cssr_system.ros2.rclpy_compat import subscribed_by_another_node
+from cssr_system.ros2.rclpy_compat import OwnMessages
 from cssr_system.ros2.time_conversion import time_message
 
 QUEUE_DEPTH = 10  # naoqi_driver queues ten messages of the topic

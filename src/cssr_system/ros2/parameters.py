@@ -14,9 +14,9 @@ from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
 
 from cssr_system.animate_behaviour.configuration import (KEYS, ConfigurationError, configuration_items,
                                                          load_configuration, shipped_configuration_path)
-from cssr_system.animate_behaviour.core.configure import configure
-from cssr_system.animate_behaviour.core.events import Reconfigure
 from cssr_system.animate_behaviour.live_settings import LIVE_KEYS
+from cssr_system.core.configure import configure
+from cssr_system.core.events import Reconfigure
 from cssr_system.package_files import data_dir
 
 BY = "parameters"

@@ -7,7 +7,7 @@ From its start until SIGINT or SIGTERM it records /joint_states, the base headin
 Pepper's platform, ``<namespace>/odom``) and the setAngles calls on the node's JointAngles topic. When stopped, it
 reads the node's log file for the enable and disable instants, the joints' bands and the changes of settings, and
 writes ``animation.json`` and ``animation.png`` into ``output_dir``, printing both paths, as the ROS 1 recorder
-does: both hand their samples to `cssr_system.animate_behaviour.recording.run_recorder`, which writes them. Exit
+does: both hand their samples to `cssr_system.recording.run_recorder`, which writes them. Exit
 status 0 when written, 1 when not (nothing recorded, or a file could not be written).
 
 Parameters:
@@ -38,13 +38,13 @@ from sensor_msgs.msg import JointState
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import PLATFORM_TOPICS_KEYS
-from cssr_system.animate_behaviour.recording.commanded import SentCall
-from cssr_system.animate_behaviour.recording.recording import SETTING_KEYS, RunSetting, run_setting
-from cssr_system.animate_behaviour.recording.run_recorder import NODE_NAME, RunRecorder, default_output_dir, say
 from cssr_system.animate_behaviour.topics import joint_angles_topic
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
-from cssr_system.ros2.graph import endpoint_names
+from cssr_system.recording.commanded import SentCall
+from cssr_system.recording.recording import SETTING_KEYS, RunSetting, run_setting
+from cssr_system.recording.run_recorder import NODE_NAME, RunRecorder, default_output_dir, say
 from cssr_system.ros2.program import on_signals, run_node
+from cssr_system.ros2.rclpy_compat import endpoint_names
 from cssr_system.ros2.time_conversion import seconds_of
 
 QUEUE_DEPTH = 100  # /joint_states and odometry come at 50 Hz: a busy second must not drop samples

@@ -5,7 +5,7 @@ from std_srvs.srv import SetBool
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import DISABLED, ENABLED, REPLY_FAILURE, REPLY_SUCCESS
-from cssr_system.animate_behaviour.core.activation import Activation
+from cssr_system.core.activation import Activation
 
 
 class ActivationServices:

@@ -1,6 +1,6 @@
 """simulatedPepper on ROS 2: the kinematic Pepper of cssr_system.pepper.simulated_pepper over rclpy.
 
-The same model and behaviour as the ROS 1 node (cssr_system.pepper.simulated_pepper_node, doc/simulated-pepper.md),
+The same model and behaviour as the ROS 1 node (cssr_system.ros1.simulated_pepper_node, doc/simulated-pepper.md),
 on the interfaces ros2_control's joint_trajectory_controller and naoqi_driver2 serve.
 
   python3 -m cssr_system.ros2.simulated_pepper_node --ros-args -p platform:=simulator

@@ -8,8 +8,8 @@ from rclpy.qos import DurabilityPolicy, QoSProfile
 
 from cssr_system.animate_behaviour.configuration import Configuration
 from cssr_system.animate_behaviour.contract import DIAGNOSTICS_TOPIC, NODE_NAME, STATUS_TOPIC
-from cssr_system.animate_behaviour.core.status import StatusChanges, diagnostic_summary, part_rows
 from cssr_system.animate_behaviour.live_settings import moving_parts
+from cssr_system.core.status import StatusChanges, diagnostic_summary, part_rows
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 

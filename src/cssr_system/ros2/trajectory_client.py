@@ -11,9 +11,9 @@ from rclpy.action import ActionClient
 from trajectory_msgs.msg import JointTrajectoryPoint
 from unique_identifier_msgs.msg import UUID
 
-from cssr_system.animate_behaviour.core.goals import ABORTED, LOST, PREEMPTED, REJECTED, SUCCEEDED
-from cssr_system.animate_behaviour.motion.planners import GOAL_TIME_TOLERANCE
-from cssr_system.animate_behaviour.motion.trajectory_timing import TimedTrajectory, to_points
+from cssr_system.core.goals import ABORTED, LOST, PREEMPTED, REJECTED, SUCCEEDED
+from cssr_system.motion.planners import GOAL_TIME_TOLERANCE
+from cssr_system.motion.trajectory_timing import TimedTrajectory, to_points
 
 # ROS 2's goal states, by the names the log uses. A canceled goal is what ROS 1 calls preempted.
 STATE_NAMES = {GoalStatus.STATUS_SUCCEEDED: SUCCEEDED, GoalStatus.STATUS_ABORTED: ABORTED,
