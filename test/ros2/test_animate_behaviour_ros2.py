@@ -40,9 +40,11 @@ from cssr_system.animate_behaviour.event_log import read_log  # noqa: E402
 from cssr_system.package_files import data_dir  # noqa: E402
 from cssr_system.pepper.joint_table import PARTS  # noqa: E402
 
+from domains import claim_domain  # noqa: E402
+
 SRC = Path(__file__).resolve().parents[2] / "src"
-# The trajectory run's domain, and the joint-angle run's DOMAIN + 25: both runs last as long as this module.
-DOMAIN = 51 + os.getpid() % 25  # valid ids: 0..101
+# The trajectory run's domain, the joint-angle run's and the one-off runs': the first two last as long as this module.
+DOMAIN, JOINT_ANGLES_DOMAIN, ONE_OFF_DOMAIN = claim_domain(), claim_domain(), claim_domain()
 START_TIMEOUT = 20.0  # s; a node starts in 1-2 s, but the machine may be busy
 STOP_BOUND = 0.5  # s from the disable request to each part's stop (the ROS 1 tests' bound)
 FIRST_GOAL_BOUND = 1.0  # s from the enable request to each part's first goal (the ROS 1 tests' bound)
@@ -182,7 +184,7 @@ def trajectory_run(tmp_path_factory):
 def joint_angles_run(tmp_path_factory):
     run = Run(tmp_path_factory.mktemp("joint_angles"), ("platform:=robot", "driver:=naoqi_driver"),
               ("platform:=robot", "behaviour:=all", "actuation:=joint_angles", "motionStyle:=breathing",
-               "yieldQuietTime:=0.5"), DOMAIN + 25)
+               "yieldQuietTime:=0.5"), JOINT_ANGLES_DOMAIN)
     yield run
     assert run.close() == 0
 
@@ -311,7 +313,7 @@ def test_joint_angles_stream_in_bands_and_yield_to_another_nodes_calls(joint_ang
 
 
 def test_sigint_while_animating_returns_every_part_home_before_the_node_exits(tmp_path):
-    run = Run(tmp_path, ("platform:=simulator",), ("platform:=simulator", "behaviour:=body"), DOMAIN - 50)
+    run = Run(tmp_path, ("platform:=simulator",), ("platform:=simulator", "behaviour:=body"), ONE_OFF_DOMAIN)
     try:
         assert run.client.activate("enabled") == contract.REPLY_SUCCESS
         assert wait_until(lambda: all(run.client.part_state(part) == "animating" for part in SIMULATOR_PARTS), 3.0)

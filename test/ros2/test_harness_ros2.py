@@ -31,10 +31,12 @@ from cssr_system.motion import report as motion_report  # noqa: E402
 from cssr_system.package_files import data_dir  # noqa: E402
 from cssr_system.ros2.harness_runner import Ros2Harness  # noqa: E402
 
+from domains import claim_domain  # noqa: E402
+
 SRC = Path(__file__).resolve().parents[2] / "src"
 CONFIGURATION = Path(__file__).resolve().parents[1] / "harnessTestConfiguration.ini"  # the rostests' one
-# Two runs, one after the other, each on a domain of its own (valid ids: 0..101).
-DOMAINS = (1 + (os.getpid() + 17) % 100, 1 + (os.getpid() + 67) % 100)
+# Two runs, one after the other, each on a domain of its own.
+DOMAINS = (claim_domain(), claim_domain())
 EXIT_TIMEOUT = 15.0
 READY_TIMEOUT = 30.0  # s for the node to find the simulated Pepper's controllers and topics (ROS 2 discovery)
 SIMULATOR_PARTS = {"RArm", "LArm", "Leg", "Wheels"}  # the simulator platform has no hand controllers

@@ -31,10 +31,12 @@ from sensor_msgs.msg import JointState  # noqa: E402
 from std_msgs.msg import UInt32  # noqa: E402
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint  # noqa: E402
 
+from domains import claim_domain  # noqa: E402
+
 SRC = Path(__file__).resolve().parents[2] / "src"
 MODULE = "cssr_system.ros2.simulated_pepper_node"
-# Two nodes under test at most at a time, on domains DOMAIN and DOMAIN + 50 (valid ids: 0..101).
-DOMAIN = 1 + os.getpid() % 50
+# Two nodes under test at most at a time, on domains of their own.
+DOMAIN, SECOND_DOMAIN = claim_domain(), claim_domain()
 START_TIMEOUT = 20.0  # s; a node starts in 1-2 s, but the machine may be busy
 EXIT_TIMEOUT = 15.0
 RESULT_TIMEOUT = 10.0
@@ -301,7 +303,7 @@ def test_sigint_aborts_the_running_goal_and_exits_cleanly(pepper):
 
 
 def test_with_naoqi_driver_joint_angles_move_the_joints_and_sigterm_ends_it(discovery_on_this_machine):
-    domain = DOMAIN + 50
+    domain = SECOND_DOMAIN
     process = start_node(domain, "platform:=robot", "driver:=naoqi_driver")
     peer = Peer(domain)
     try:
@@ -323,7 +325,7 @@ def test_with_naoqi_driver_joint_angles_move_the_joints_and_sigterm_ends_it(disc
     ("feedback_rate:=fast", "feedback_rate must be a finite number >= 0 (got 'fast')"),
 ])
 def test_a_bad_parameter_value_exits_1_with_one_line(parameter, expected):
-    process = start_node(DOMAIN + 50, parameter)
+    process = start_node(SECOND_DOMAIN, parameter)
     try:
         out, err = process.communicate(timeout=START_TIMEOUT)
     finally:
