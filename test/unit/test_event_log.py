@@ -623,3 +623,30 @@ def test_a_background_log_keeps_the_order_and_the_times_of_its_lines(tmp_path):
     assert [entry.fields["number"] for entry in entries] == list(range(200))
     assert all(earlier.timestamp <= later.timestamp for earlier, later in zip(entries, entries[1:]))
     log.write("after", number=-1)  # ignored after close, never raises
+
+
+# -- several instances (README: "Several robots") --------------------------------------------------------------
+@pytest.mark.parametrize("node,name", [
+    ("/animateBehaviour", "animateBehaviourLogFile.log"),
+    ("/robot1/animateBehaviour", "robot1_animateBehaviourLogFile.log"),
+    ("/animate_left", "animate_leftLogFile.log"),
+    ("/lab/robot2/animate_left", "lab_robot2_animate_leftLogFile.log")])
+def test_the_default_log_file_is_named_after_the_nodes_resolved_name(node, name):
+    assert event_log.node_log_file_name(node) == name
+
+
+def test_a_log_file_held_by_another_instance_is_not_shared(tmp_path):
+    asked = str(tmp_path / "animateBehaviourLogFile.log")
+    first = event_log.claim_log_file(asked, "/robot1/animateBehaviour")
+    assert first == (asked, "")
+    second = event_log.claim_log_file(asked, "/robot2/animateBehaviour")
+    assert second.path == str(tmp_path / "robot2_animateBehaviourLogFile.log")
+    assert "held by another running instance" in second.clash and second.path in second.clash
+    assert "/robot2/animateBehaviour" in second.clash and "\n" not in second.clash
+    third = event_log.claim_log_file(asked, "/robot2/animateBehaviour")  # the same name twice: its own file still
+    assert third.path not in (first.path, second.path) and third.path.startswith(second.path)
+
+
+def test_a_log_file_in_a_folder_without_write_access_is_used_unclaimed(tmp_path):
+    asked = str(tmp_path / "missing" / "animateBehaviourLogFile.log")
+    assert event_log.claim_log_file(asked, "/animateBehaviour") == (asked, "")

@@ -387,21 +387,21 @@ def test_cmd_vel_an_explicit_zero_stops():
 def test_platforms_serve_the_controllers_of_the_robot_and_of_the_simulator():
     robot, simulator = PLATFORMS["robot"], PLATFORMS["simulator"]
     assert [action_namespace(robot, key) for key in robot.controller_keys] == [
-        "/pepper_dcm/RightArm_controller/follow_joint_trajectory",
-        "/pepper_dcm/LeftArm_controller/follow_joint_trajectory",
-        "/pepper_dcm/RightHand_controller/follow_joint_trajectory",
-        "/pepper_dcm/LeftHand_controller/follow_joint_trajectory",
-        "/pepper_dcm/Pelvis_controller/follow_joint_trajectory",
-        "/pepper_dcm/Head_controller/follow_joint_trajectory",
+        "pepper_dcm/RightArm_controller/follow_joint_trajectory",
+        "pepper_dcm/LeftArm_controller/follow_joint_trajectory",
+        "pepper_dcm/RightHand_controller/follow_joint_trajectory",
+        "pepper_dcm/LeftHand_controller/follow_joint_trajectory",
+        "pepper_dcm/Pelvis_controller/follow_joint_trajectory",
+        "pepper_dcm/Head_controller/follow_joint_trajectory",
     ]
     assert [action_namespace(simulator, key) for key in simulator.controller_keys] == [
-        "/pepper/RightArm_controller/follow_joint_trajectory",
-        "/pepper/LeftArm_controller/follow_joint_trajectory",
-        "/pepper/Pelvis_controller/follow_joint_trajectory",
-        "/pepper/Head_controller/follow_joint_trajectory",
+        "pepper/RightArm_controller/follow_joint_trajectory",
+        "pepper/LeftArm_controller/follow_joint_trajectory",
+        "pepper/Pelvis_controller/follow_joint_trajectory",
+        "pepper/Head_controller/follow_joint_trajectory",
     ]
-    assert (base_topic(robot), base_topic(simulator)) == ("/pepper_dcm/cmd_moveto", "/pepper/cmd_vel")
-    assert (odometry_topic(robot), odometry_topic(simulator)) == ("/pepper_dcm/odom", "/pepper/odom")
+    assert (base_topic(robot), base_topic(simulator)) == ("pepper_dcm/cmd_moveto", "pepper/cmd_vel")
+    assert (odometry_topic(robot), odometry_topic(simulator)) == ("pepper_dcm/odom", "pepper/odom")
     assert isinstance(SimulatedPepper("robot").base, MoveToBase)
     assert isinstance(SimulatedPepper("simulator").base, VelocityBase)
     with pytest.raises(ValueError):

@@ -6,14 +6,14 @@ from hypothesis import given, settings, strategies as st
 
 from cssr_system.animate_behaviour.key_value_file import key_value_lines
 from cssr_system.animate_behaviour.topics import (TOPIC_KEYS, TopicFileError, TopicMap, joint_angles_topic,
-                                                  load_topic_map, parse_topic_map)
+                                                  load_topic_map, parse_topic_map, resolved_topics)
 from cssr_system.pepper.joint_table import CONTROLLER_NAMES, PARTS
 
 DATA_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "data")
 
 
 def action_namespace(namespace, key):
-    return "/{}/{}/follow_joint_trajectory".format(namespace, CONTROLLER_NAMES[key])
+    return "{}/{}/follow_joint_trajectory".format(namespace, CONTROLLER_NAMES[key])
 
 
 def problems_of(text, source="topics.dat"):
@@ -31,7 +31,7 @@ def test_topic_keys_are_the_parts_then_the_wheels_then_the_joint_angles():
 
 
 def test_the_joint_angles_topic_defaults_to_naoqi_drivers():
-    assert joint_angles_topic({"RArm": "/a"}) == "/joint_angles"
+    assert joint_angles_topic({"RArm": "/a"}) == "joint_angles"
     assert joint_angles_topic({"JointAngles": "/robot/joint_angles"}) == "/robot/joint_angles"
 
 
@@ -39,8 +39,8 @@ def test_shipped_robot_topics():
     path = os.path.join(DATA_DIR, "pepperTopics.dat")
     topic_map = load_topic_map(path)
     expected = {key: action_namespace("pepper_dcm", key) for key in ("RArm", "LArm", "RHand", "LHand", "Leg")}
-    expected["Wheels"] = "/pepper_dcm/cmd_moveto"
-    expected["JointAngles"] = "/joint_angles"
+    expected["Wheels"] = "pepper_dcm/cmd_moveto"
+    expected["JointAngles"] = "joint_angles"
     assert topic_map == TopicMap(path, expected)
     assert list(topic_map.topics) == list(TOPIC_KEYS)
 
@@ -49,8 +49,8 @@ def test_shipped_simulator_topics_have_no_hands():
     path = os.path.join(DATA_DIR, "simulatorTopics.dat")
     topic_map = load_topic_map(path)
     expected = {key: action_namespace("pepper", key) for key in ("RArm", "LArm", "Leg")}
-    expected["Wheels"] = "/pepper/cmd_vel"
-    expected["JointAngles"] = "/joint_angles"
+    expected["Wheels"] = "pepper/cmd_vel"
+    expected["JointAngles"] = "joint_angles"
     assert dict(topic_map.topics) == expected
     assert topic_map.path == path
 
@@ -180,3 +180,32 @@ names = st.from_regex(r"/?[A-Za-z][A-Za-z0-9_]{0,8}(/[A-Za-z][A-Za-z0-9_]{0,8}){
 def test_written_maps_read_back(topics):
     text = "".join("{}\t{}\n".format(key, name) for key, name in topics.items())
     assert dict(parse_topic_map(text, "t").topics) == topics
+
+
+def test_the_shipped_topic_files_use_relative_names_so_that_a_namespace_applies():
+    for name in ("pepperTopics.dat", "simulatorTopics.dat", "naoqiDriver2Topics.dat"):
+        topics = load_topic_map(os.path.join(DATA_DIR, name)).topics
+        assert [topic for topic in topics.values() if topic.startswith("/")] == [], name
+
+
+def test_every_name_is_resolved_by_the_client_library_the_joint_angles_default_included():
+    def resolve(name):  # as a node in /robot1 with one remapping
+        resolved = name if name.startswith("/") else "/robot1/" + name
+        return {"/robot1/pepper/cmd_vel": "/base/cmd_vel"}.get(resolved, resolved)
+    topic_map = TopicMap("t.dat", {"RArm": "pepper/RightArm_controller/follow_joint_trajectory",
+                                   "LArm": "/elsewhere/LeftArm", "Wheels": "pepper/cmd_vel"})
+    assert resolved_topics(topic_map, resolve) == {
+        "RArm": "/robot1/pepper/RightArm_controller/follow_joint_trajectory", "LArm": "/elsewhere/LeftArm",
+        "Wheels": "/base/cmd_vel", "JointAngles": "/robot1/joint_angles"}
+
+
+def test_a_name_the_client_library_cannot_resolve_is_one_line_naming_the_file_and_the_key():
+    def resolve(name):
+        if name == "pepper/2nd":
+            raise ValueError("Invalid topic name:\n  token must not start with a number")
+        return "/" + name
+    with pytest.raises(TopicFileError) as raised:
+        resolved_topics(TopicMap("t.dat", {"RArm": "pepper/2nd", "Wheels": "cmd_vel"}), resolve)
+    (problem,) = raised.value.problems
+    assert problem.startswith("t.dat: RArm = 'pepper/2nd': not a name this ROS can resolve (Invalid topic name:")
+    assert "\n" not in problem

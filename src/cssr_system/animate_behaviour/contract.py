@@ -4,12 +4,30 @@ of setActivation, its private parameters, and the names of the events in its log
 from typing import Optional
 
 NODE_NAME = "animateBehaviour"
-SERVICE_NAME = NODE_NAME + "/setActivation"  # relative: a namespace applies
+# The node's own interfaces are private names: under the node's name, in its namespace (README: "Several robots").
+SET_ACTIVATION = "setActivation"  # cssr_system/setActivation
+SET_ENABLED = "set_enabled"  # std_srvs/SetBool, the ROS NAOqi wrappers' convention
+ANIMATE_ACTION = "animate"  # cssr_system/Animate (README: "The animate action")
+STATUS = "status"  # cssr_system/AnimateBehaviourStatus, latched
+# Where they are for a node of the default name, relative to its namespace: for the programs that call it.
+SERVICE_NAME = NODE_NAME + "/" + SET_ACTIVATION
 SERVICE_PATH = "/" + SERVICE_NAME  # where it is when the node runs in the root namespace
-SET_ENABLED_SERVICE_NAME = NODE_NAME + "/set_enabled"  # std_srvs/SetBool, the ROS NAOqi wrappers' convention
-ANIMATE_ACTION_NAME = NODE_NAME + "/animate"  # cssr_system/Animate (README: "The animate action")
-STATUS_TOPIC = NODE_NAME + "/status"  # cssr_system/AnimateBehaviourStatus, latched
-DIAGNOSTICS_TOPIC = "/diagnostics"  # diagnostic_msgs/DiagnosticArray
+SET_ENABLED_SERVICE_NAME = NODE_NAME + "/" + SET_ENABLED
+ANIMATE_ACTION_NAME = NODE_NAME + "/" + ANIMATE_ACTION
+STATUS_TOPIC = NODE_NAME + "/" + STATUS
+DIAGNOSTICS_TOPIC = "/diagnostics"  # diagnostic_msgs/DiagnosticArray: one for the whole graph, as ROS has it
+ROBOT = "pepper"  # the diagnostics' hardware id of a node at the root; in a namespace, the namespace names the robot
+
+
+def interface_of(node: str, name: str) -> str:
+    """The full name of the private interface `name` of the node whose resolved name is `node`."""
+    return "{}/{}".format(node.rstrip("/"), name)
+
+
+def robot_of(namespace: str) -> str:
+    """The robot a node in `namespace` drives, for diagnostics: its namespace, or ROBOT at the root."""
+    return namespace.strip("/") or ROBOT
+
 
 ENABLED = "enabled"
 DISABLED = "disabled"
@@ -25,7 +43,7 @@ def parse_activation_state(requested: str) -> Optional[str]:
 
 
 # Events of animateBehaviourLogFile.log: the node writes them, the harness and the plot read them.
-NODE_STARTED = "node_started"  # version, node, parameters, config_file, log_file
+NODE_STARTED = "node_started"  # version, node, namespace, parameters, config_file, log_file
 CONFIGURATION_LOADED = "configuration_loaded"  # file, items (every key -> value as in the file)
 CONFIGURATION_INVALID = "configuration_invalid"  # file, problems
 ACTIVATION_REQUEST = "activation_request"  # state (as received), reply
@@ -54,7 +72,7 @@ LOG_EVENTS = (NODE_STARTED, CONFIGURATION_LOADED, CONFIGURATION_INVALID, ACTIVAT
               BEHAVIOUR_ENDED, GOAL_SENT, GOAL_FINISHED, ANGLES_SENT, CONTROLLER_CONNECTED, CONTROLLER_WAITING,
               CONTROLLER_LOST, BASE_COMMAND,
               PART_YIELDED, PART_RESUMED, SETTING_CHANGED, ANIMATE_GOAL, ERROR, NODE_STOPPED)
-JOINT_STATES_TOPIC = "joint_states"  # relative: resolves to /joint_states
+JOINT_STATES_TOPIC = "joint_states"  # relative: in the node's namespace (/joint_states at the root)
 # Private parameters that are not overrides of configuration keys: the node's own, and dynamic_reconfigure's
 # names of the live settings (live_settings.SETTING_KEYS).
 NODE_PARAMETERS = ("configFile", "logFile", "intensity", "tempo", "style", "arms", "hands", "leg", "base")

@@ -538,6 +538,53 @@ def read_log(path: str, since: Optional[datetime.datetime] = None) -> List[LogEn
     return entries
 
 
+def node_log_file_name(node: str) -> str:
+    """The default log file's name for the node whose resolved name is `node`: LOG_FILE_NAME for
+    ``/animateBehaviour``, else the name with its slashes as underscores (``/robot1/animateBehaviour``:
+    ``robot1_animateBehaviourLogFile.log``), so that two instances never share a file by default."""
+    name = node.strip("/").replace("/", "_")
+    return LOG_FILE_NAME if name in ("", NODE_NAME) else name + LOG_FILE_NAME[len(NODE_NAME):]
+
+
+class LogFileClaim(NamedTuple):
+    """The log file a node writes, held with a lock for as long as the node runs (`claim_log_file`)."""
+
+    path: str
+    clash: str  # "" or the one line saying that another running instance holds the file asked for
+
+
+_claims: List[int] = []  # lock files held for the whole run: the kernel releases them when the process ends
+
+
+def claim_log_file(requested: str, node: str) -> LogFileClaim:
+    """`requested`, or, where another running instance already holds it, a file beside it named after `node` (the
+    node's resolved name), so that the lines of two nodes never mix. The hold is a lock on ``<file>.lock``; where
+    that cannot be made (a read-only folder), the file is used unclaimed and the event log's own fallback applies."""
+    requested = os.path.abspath(requested)
+    if _hold(requested):
+        return LogFileClaim(requested, "")
+    beside = os.path.join(os.path.dirname(requested), node_log_file_name(node))
+    if beside == requested or not _hold(beside):
+        beside = "{}.{}".format(beside, os.getpid())
+    return LogFileClaim(beside, "{}: the log file {} is held by another running instance; this node ({}) writes "
+                                "beside it, to {}".format(NODE_NAME, requested, node, beside))
+
+
+def _hold(path: str) -> bool:
+    """Whether this process now holds `path` (False only when another process does)."""
+    try:
+        fd = os.open(path + ".lock", os.O_WRONLY | os.O_CREAT, 0o644)
+    except OSError:
+        return True  # no lock can be made here: nothing to hold, nothing held by another
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        os.close(fd)
+        return False
+    _claims.append(fd)
+    return True
+
+
 def default_log_path(package_dir: str, ros_home: Optional[str], file_name: str = LOG_FILE_NAME) -> str:
     """``<package_dir>/data/<file_name>`` when it can be written (the folder, or the package when
     the folder does not exist yet, and the file when it exists); otherwise

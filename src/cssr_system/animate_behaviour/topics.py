@@ -9,14 +9,16 @@ configuration's ``actuation joint_angles``; default DEFAULT_JOINT_ANGLES_TOPIC),
 whose key is absent is skipped (the simulator has no hands), but a file must name at least one key. The
 value is one legal ROS graph name: it starts with ``/`` or a letter and holds only letters, digits, ``_``
 and ``/``, with no ``//`` and no trailing ``/``. Dots are not legal in ROS names: write
-``/pepper_dcm/cmd_moveto``, not ``/pepper_dcm/cmd.moveto``.
+``pepper_dcm/cmd_moveto``, not ``pepper_dcm/cmd.moveto``. A relative name (the shipped files') resolves in the
+node's namespace and follows remapping, as every ROS name does (`resolved_topics`); an absolute one is used as
+written, remapping aside.
 
 Every problem of a file is reported, each on one line naming the file and line, and raised together
 as one `TopicFileError`.
 """
 import re
 from collections import OrderedDict
-from typing import Dict, List, Mapping, NamedTuple, Sequence
+from typing import Callable, Dict, List, Mapping, NamedTuple, Sequence
 
 from cssr_system.animate_behaviour.key_value_file import (BLANKS, distinct_known_lines, join_problems,
                                                           one_line, read_key_value_file)
@@ -25,7 +27,7 @@ from cssr_system.pepper.joint_table import PARTS
 
 WHEELS_KEY = "Wheels"
 JOINT_ANGLES_KEY = "JointAngles"
-DEFAULT_JOINT_ANGLES_TOPIC = "/joint_angles"  # where naoqi_driver listens unless remapped
+DEFAULT_JOINT_ANGLES_TOPIC = "joint_angles"  # where naoqi_driver listens, in the robot's namespace
 
 
 # The joint parts of joint_table, then the base, then the topic of the joint_angles actuation.
@@ -91,3 +93,21 @@ def load_topic_map(path: str) -> TopicMap:
 def joint_angles_topic(topics: Mapping[str, str]) -> str:
     """The topic the joint_angles actuation streams to: the topic file's JointAngles, else the default."""
     return topics.get(JOINT_ANGLES_KEY, DEFAULT_JOINT_ANGLES_TOPIC)
+
+
+def resolved_topics(topic_map: TopicMap, resolve: Callable[[str], str]) -> Dict[str, str]:
+    """The topic map with every name as the node's client library resolves it (`resolve`: its namespace and
+    remapping), the JointAngles default included, so that goals, the watch of other nodes, status and log all use one
+    name for each controller and topic."""
+    names = OrderedDict(topic_map.topics)
+    names.setdefault(JOINT_ANGLES_KEY, DEFAULT_JOINT_ANGLES_TOPIC)
+    resolved, problems = OrderedDict(), []
+    for key, name in names.items():
+        try:
+            resolved[key] = resolve(name)
+        except Exception as error:  # each client library has its own exception for a name it cannot resolve
+            problems.append("{}: {} = {!r}: not a name this ROS can resolve ({})".format(
+                topic_map.path, key, name, one_line(str(error))))
+    if problems:
+        raise TopicFileError(problems)
+    return resolved

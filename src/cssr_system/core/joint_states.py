@@ -31,7 +31,7 @@ from typing import Callable, Dict, Optional, Sequence, Tuple
 
 import numpy
 
-from cssr_system.animate_behaviour.contract import NODE_NAME
+from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC, NODE_NAME
 
 MAX_AGE = 1.0  # s: older measurements are not trusted as the current position
 MAX_AHEAD = 1.0  # s: stamps further in the future than this are not trusted either
@@ -40,9 +40,12 @@ RETRY_PERIOD = 1.0  # s before a failed subscription or unsubscription is tried 
 
 
 class JointStateCache:
-    def __init__(self, clock: Callable[[], float], report: Callable[[str], None]) -> None:
+    def __init__(self, clock: Callable[[], float], report: Callable[[str], None],
+                 topic: str = "/" + JOINT_STATES_TOPIC) -> None:
+        """`topic`: the resolved name of the joint states' topic, for the messages."""
         self._clock = clock
         self._report = report
+        self._topic = topic
         self._lock = threading.Lock()
         self._joints: Dict[str, Tuple[float, float]] = {}  # name -> (position, stamp)
         self._reported = set()
@@ -59,7 +62,7 @@ class JointStateCache:
             names, positions = list(message.name), list(message.position)
             stamp = message.header.stamp.to_sec()
         except Exception as error:  # a message rospy could decode but that is not a JointState
-            self._report_once("unreadable", "/joint_states: unusable message (%s); ignored" % error)
+            self._report_once("unreadable", "%s: unusable message (%s); ignored" % (self._topic, error))
             return
         self.record(names, positions, stamp, received_at)
 
@@ -68,18 +71,18 @@ class JointStateCache:
         """A /joint_states message's joints, positions and stamp (s; 0: "now"), from any ROS."""
         now = self._clock() if received_at is None else received_at
         if len(names) != len(positions):
-            self._report_once("length", "/joint_states: %d names but %d positions; such messages are ignored"
-                              % (len(names), len(positions)))
+            self._report_once("length", "%s: %d names but %d positions; such messages are ignored"
+                              % (self._topic, len(names), len(positions)))
             return
         if not all(math.isfinite(position) for position in positions):
-            self._report_once("finite", "/joint_states: a position that is not a finite number (NaN or infinite); "
-                                        "such messages are ignored")
+            self._report_once("finite", "%s: a position that is not a finite number (NaN or infinite); such "
+                                        "messages are ignored" % self._topic)
             return
         if stamp == 0.0:
             stamp = now
         elif now - stamp > MAX_AGE or stamp - now > MAX_AHEAD:
-            self._report_once("stamp", "/joint_states: stamp %.3f s %s the node's clock; such messages are ignored"
-                              % (abs(now - stamp), "behind" if stamp < now else "ahead of"))
+            self._report_once("stamp", "%s: stamp %.3f s %s the node's clock; such messages are ignored"
+                              % (self._topic, abs(now - stamp), "behind" if stamp < now else "ahead of"))
             return
         with self._lock:
             for name, position in zip(names, positions):
@@ -99,8 +102,8 @@ class JointStateCache:
         now, measured = self._measurements(joints)
         if any(value is None for value in measured):
             missing = [name for name, value in zip(joints, measured) if value is None]
-            self._report_once("missing " + ",".join(missing), "/joint_states: no measurement of %s; planning from "
-                                                              "the plan instead" % ", ".join(missing))
+            self._report_once("missing " + ",".join(missing), "%s: no measurement of %s; planning from the plan "
+                                                              "instead" % (self._topic, ", ".join(missing)))
             return None
         if not all(self._current(stamp, now) for _, stamp in measured):
             return None

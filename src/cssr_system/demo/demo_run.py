@@ -14,7 +14,7 @@ from typing import Callable, List, Optional, Sequence, Tuple
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour import console
-from cssr_system.animate_behaviour.contract import DISABLED, ENABLED, REPLY_SUCCESS, SERVICE_PATH
+from cssr_system.animate_behaviour.contract import DISABLED, ENABLED, REPLY_SUCCESS
 from cssr_system.animate_behaviour.event_log import read_log
 from cssr_system.demo.live_lines import DISABLE, ENGAGED, GESTURE, LiveWindow, schedule, status_line
 
@@ -181,5 +181,5 @@ def drive(run: DemoRun, outcome_file: str, ending: str) -> Tuple[int, str]:
     return status, text
 
 
-def service_failure(state: str, error: object) -> DemoError:
-    return DemoError("%s %s failed: %s" % (SERVICE_PATH, state, error))
+def service_failure(service: str, state: str, error: object) -> DemoError:
+    return DemoError("%s %s failed: %s" % (service, state, error))

@@ -8,6 +8,7 @@ its node is given a test's configuration. No ROS import.
 """
 import datetime
 import os
+import posixpath
 import threading
 import time
 from typing import Callable, List, Mapping, Optional, Sequence, Tuple
@@ -104,7 +105,7 @@ def base_topics(config: settings.HarnessConfiguration, data_dir: str) -> Tuple[s
     except TopicFileError as error:
         raise HarnessError(str(error)) from None
     wheels = topics.get(WHEELS_KEY, "")
-    return wheels, wheels.rsplit("/", 1)[0] + "/odom" if "/" in wheels else ""
+    return wheels, posixpath.join(posixpath.dirname(wheels), "odom") if wheels else ""
 
 
 def write_configuration_file(path: str, config: Configuration, test: str) -> None:

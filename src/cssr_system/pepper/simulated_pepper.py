@@ -1,7 +1,7 @@
 """A kinematic Pepper: controller semantics and base kinematics, with no ROS communication.
 
 scripts/simulatedPepper.py serves this model on the ROS interfaces of the robot (naoqi_dcm_driver,
-``/pepper_dcm``) or of the Gazebo simulator (``/pepper``).  Every method takes the current time
+``pepper_dcm``) or of the Gazebo simulator (``pepper``), in its own namespace.  Every method takes the current time
 explicitly (seconds, any fixed origin), so the model is stepped and tested without a clock.
 
 Joint controllers (`SimulatedController`) mirror ros_controllers' joint_trajectory_controller; each lists its
@@ -107,9 +107,9 @@ class Platform(NamedTuple):
 PLATFORMS: Dict[str, Platform] = OrderedDict(
     (platform.name, platform)
     for platform in (
-        Platform("robot", "/pepper_dcm", ("RArm", "LArm", "RHand", "LHand", "Leg", HEAD_PART.key),
+        Platform("robot", "pepper_dcm", ("RArm", "LArm", "RHand", "LHand", "Leg", HEAD_PART.key),
                  "cmd_moveto"),
-        Platform("simulator", "/pepper", ("RArm", "LArm", "Leg", HEAD_PART.key), "cmd_vel"),
+        Platform("simulator", "pepper", ("RArm", "LArm", "Leg", HEAD_PART.key), "cmd_vel"),
     )
 )
 

@@ -450,16 +450,18 @@ class RunSetting(NamedTuple):
 SETTING_KEYS = ("platform", "behaviour")
 
 
-def run_setting(node_parameters: Mapping[str, Any], ros_home: Optional[str]) -> RunSetting:
-    """The setting of the node run with `node_parameters` (its private parameters, names without
-    its namespace: ``configFile``, ``logFile``, configuration keys), with the node's defaults;
+def run_setting(node_parameters: Mapping[str, Any], ros_home: Optional[str],
+                node: str = "/" + contract.NODE_NAME) -> RunSetting:
+    """The setting of the node `node` (its resolved name) run with `node_parameters` (its private parameters, names
+    without its namespace: ``configFile``, ``logFile``, configuration keys), with the node's defaults;
     ValueError with one line when its configuration or topic file cannot be read."""
     from cssr_system.animate_behaviour.configuration import (PLATFORM_TOPICS_KEYS, configuration_items,
                                                              shipped_configuration_path)
-    from cssr_system.animate_behaviour.event_log import default_log_path
+    from cssr_system.animate_behaviour.event_log import default_log_path, node_log_file_name
     from cssr_system.package_files import package_dir
     config_file = os.path.abspath(str(node_parameters.get("configFile") or shipped_configuration_path()))
-    log_file = os.path.abspath(str(node_parameters.get("logFile") or default_log_path(package_dir(), ros_home)))
+    log_file = os.path.abspath(str(node_parameters.get("logFile")
+                                   or default_log_path(package_dir(), ros_home, node_log_file_name(node))))
     keys = SETTING_KEYS + tuple(PLATFORM_TOPICS_KEYS.values())
     overrides = {key: node_parameters[key] for key in keys if key in node_parameters}
     config, topics = configuration_and_topics(config_file, overrides)

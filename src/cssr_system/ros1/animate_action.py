@@ -12,7 +12,7 @@ import rospy
 
 from cssr_system.animate_behaviour.configuration import ConfigurationError
 from cssr_system.animate_behaviour.console import console
-from cssr_system.animate_behaviour.contract import ANIMATE_ACTION_NAME, NODE_NAME
+from cssr_system.animate_behaviour.contract import ANIMATE_ACTION, NODE_NAME
 from cssr_system.animate_behaviour.live_settings import goal_overrides
 from cssr_system.core.events import AnimateCancel, AnimateGoal
 from cssr_system.msg import AnimateAction, AnimateFeedback, AnimateResult
@@ -32,8 +32,9 @@ class AnimateActionServer:
         self._post = post
         # The goals' status is published at every change; between changes once a second is enough (actionlib's
         # default, 5 Hz, would cost the node CPU for nothing).
-        rospy.set_param(rospy.resolve_name(ANIMATE_ACTION_NAME) + "/status_frequency", STATUS_FREQUENCY)
-        self._server = actionlib.ActionServer(ANIMATE_ACTION_NAME, AnimateAction, goal_cb=self._on_goal,
+        name = rospy.resolve_name("~" + ANIMATE_ACTION)  # private: under the node's name, in its namespace
+        rospy.set_param(name + "/status_frequency", STATUS_FREQUENCY)
+        self._server = actionlib.ActionServer(name, AnimateAction, goal_cb=self._on_goal,
                                               cancel_cb=self._on_cancel, auto_start=False)
 
     def start(self) -> None:

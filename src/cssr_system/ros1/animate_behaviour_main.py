@@ -84,7 +84,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         print("{}: cannot start: {}: {}".format(NODE_NAME, type(error).__name__, error), file=sys.stderr, flush=True)
         return 1
     print_banner(node.version)
-    node.log.write(contract.NODE_STARTED, version=node.version, node=rospy.get_name(),
+    node.log.write(contract.NODE_STARTED, version=node.version, node=rospy.get_name(), namespace=rospy.get_namespace(),
                    config_file=config_file_parameter(), log_file=node.log.path,
                    parameters={key: str(value) for key, value in parameter_overrides().items()},
                    arguments=argv[1:])

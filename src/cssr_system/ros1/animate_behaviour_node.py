@@ -14,7 +14,8 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import JOINT_ANGLES_ACTUATION, Configuration, configuration_items
 from cssr_system.animate_behaviour.console import console
 from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC
-from cssr_system.animate_behaviour.event_log import BackgroundLog, EventLog, default_log_path
+from cssr_system.animate_behaviour.event_log import (BackgroundLog, EventLog, claim_log_file, default_log_path,
+                                                     node_log_file_name)
 from cssr_system.animate_behaviour.topics import joint_angles_topic
 from cssr_system.core.base_stream import BaseStream
 from cssr_system.core.controller_watcher import ControllerWatcher
@@ -45,14 +46,22 @@ class AnimateBehaviourNode:
 
     def __init__(self) -> None:
         self.version = package_version()
-        log_file = rospy.get_param("~logFile", default_log_path(package_dir(), os.environ.get("ROS_HOME")))
+        # Named after the node's resolved name, and never shared with another running instance (README: "Several
+        # robots").
+        node = rospy.get_name()
+        default_log_file = default_log_path(package_dir(), os.environ.get("ROS_HOME"), node_log_file_name(node))
+        log_file, clash = claim_log_file(rospy.get_param("~logFile", default_log_file), node)
+        if clash:
+            console.warning(clash)
         self.log = BackgroundLog(EventLog(log_file))
         problems = Problems(self.log)  # one console line and one log line each
         self.report_error, self.report_problem = problems.error, problems.bad_input
         # The clock the controllers execute goals on (ROS time, as Gazebo's controllers): the streams' deadlines.
         self.clock = rospy.get_time
-        self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text))
-        self._switch = SubscriptionSwitch(self._subscribe_joint_states, None, self.report_error, JOINT_STATES_TOPIC)
+        joint_states = rospy.resolve_name(JOINT_STATES_TOPIC)  # in the node's namespace, remapped where asked
+        self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text),
+                                            joint_states)
+        self._switch = SubscriptionSwitch(self._subscribe_joint_states, None, self.report_error, joint_states)
         self.feed = JointStateFeed(self.joint_states, self._switch, console.debug)
         self.status = StatusPublisher()
         post = self._post  # the supervisor's queue, for the servers made before it

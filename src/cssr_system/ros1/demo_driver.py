@@ -34,7 +34,6 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import Empty
 
 from cssr_system.animate_behaviour import contract
-from cssr_system.animate_behaviour.contract import SERVICE_PATH, STATUS_TOPIC
 from cssr_system.animate_behaviour.live_settings import PRESETS
 from cssr_system.animate_behaviour.topics import DEFAULT_JOINT_ANGLES_TOPIC
 from cssr_system.demo.demo_run import (EXIT_FAILED, NODE_NAME, SERVICE_CALL_TIMEOUT,
@@ -46,13 +45,14 @@ from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
 from cssr_system.recording.recording import (BASE_LABEL, RunSetting, run_setting,
                                              yaw_from_quaternion)
+from cssr_system.recording.run_recorder import NODE_NAME as RECORDER_NAME
 
 
-def records_the_node(recorder: str, node: str = "/" + contract.NODE_NAME,
-                     joint_angles: str = DEFAULT_JOINT_ANGLES_TOPIC) -> bool:
-    """Whether the master lists `recorder` among the subscribers of /joint_states and of every goal topic `node`
-    publishes (and of `joint_angles`, where it streams its calls): the node sends its first goals within
-    milliseconds of the enable, and a goal topic joined later misses them."""
+def records_the_node(recorder: str, node: str) -> bool:
+    """Whether the master lists `recorder` among the subscribers of joint_states and of every goal topic `node`
+    publishes (and of joint_angles, where it streams its calls), all resolved names: the node sends its first goals
+    within milliseconds of the enable, and a goal topic joined later misses them."""
+    joint_angles = rospy.resolve_name(DEFAULT_JOINT_ANGLES_TOPIC)
     try:
         publishers, subscribers, _ = rosgraph.Master(rospy.get_name()).getSystemState()
     except Exception:  # noqa: BLE001 - the master is checked again on the next try
@@ -60,29 +60,33 @@ def records_the_node(recorder: str, node: str = "/" + contract.NODE_NAME,
     goals = [topic for topic, nodes in publishers
              if (topic.endswith("/goal") or topic == joint_angles) and node in nodes]
     listening = {topic for topic, nodes in subscribers if recorder in nodes}
-    return bool(goals) and all(topic in listening for topic in goals + ["/joint_states"])
+    needed = goals + [rospy.resolve_name(contract.JOINT_STATES_TOPIC)]
+    return bool(goals) and all(topic in listening for topic in needed)
 
 
 class DemoDriver(DemoRun):
     """The run (`demo_run`) on ROS 1."""
 
-    def __init__(self, duration: float, tail: float, gesture: bool, recorder: str, startup_timeout: float,
+    def __init__(self, node: str, duration: float, tail: float, gesture: bool, recorder: str, startup_timeout: float,
                  setting: Optional[RunSetting], heading_topic: str, interaction: bool = False) -> None:
         super().__init__(duration, tail, startup_timeout, setting.log_file if setting is not None else None,
                          gesture, interaction)
+        self.node = node  # the resolved name of the node driven: its service and status are under it
+        self.service = contract.interface_of(node, contract.SET_ACTIVATION)
         self.recorder = recorder
         self.setting, self.heading_topic = setting, heading_topic
         self._gesture_publisher = rospy.Publisher(PLAY_TOPIC, Empty, queue_size=1) if gesture else None
-        rospy.Subscriber("/joint_states", JointState, self._on_joint_states, queue_size=100)
+        rospy.Subscriber(contract.JOINT_STATES_TOPIC, JointState, self._on_joint_states, queue_size=100)
         rospy.Subscriber(heading_topic, Odometry, self._on_odometry, queue_size=100)
-        rospy.Subscriber(STATUS_TOPIC, AnimateBehaviourStatus, self._on_status, queue_size=10)
+        rospy.Subscriber(contract.interface_of(node, contract.STATUS), AnimateBehaviourStatus, self._on_status,
+                         queue_size=10)
 
     # -- callbacks and stop requests ------------------------------------------------------------
     def engage(self) -> None:
         """The engaged preset, as a behaviour tree would switch to it while the robot speaks to someone."""
         say("switching to the engaged preset: %s" % ", ".join("%s %s" % item for item in PRESETS["engaged"].items()))
         try:
-            client = dynamic_reconfigure.client.Client("/" + contract.NODE_NAME, timeout=SERVICE_CALL_TIMEOUT)
+            client = dynamic_reconfigure.client.Client(self.node, timeout=SERVICE_CALL_TIMEOUT)
             client.update_configuration(PRESETS["engaged"])
         except Exception as error:  # the demo goes on; the plot shows that nothing changed
             say("error: the engaged preset was not applied: %s" % error)
@@ -114,24 +118,23 @@ class DemoDriver(DemoRun):
     def activate(self, state: str, timeout: float) -> str:
         from cssr_system.srv import setActivation
         try:
-            rospy.wait_for_service(SERVICE_PATH, timeout=timeout)
-            return rospy.ServiceProxy(SERVICE_PATH, setActivation)(state).success
+            rospy.wait_for_service(self.service, timeout=timeout)
+            return rospy.ServiceProxy(self.service, setActivation)(state).success
         except (rospy.ServiceException, rospy.ROSException) as error:
-            raise service_failure(state, error) from None
+            raise service_failure(self.service, state, error) from None
 
     def startup_waits(self) -> Sequence[Wait]:
-        waits = [("the animateBehaviour node (its service %s)" % SERVICE_PATH, self._service_answers)]
+        waits = [("the animateBehaviour node (its service %s)" % self.service, self._service_answers)]
         if self.recorder:
-            waits.append(("the recorder %s" % self.recorder, lambda: records_the_node(self.recorder)))
+            waits.append(("the recorder %s" % self.recorder, lambda: records_the_node(self.recorder, self.node)))
         if self._gesture_publisher is not None:
             waits.append(("the gesture player (%s)" % PLAY_TOPIC,
                           lambda: self._gesture_publisher.get_num_connections() > 0))
         return waits
 
-    @staticmethod
-    def _service_answers() -> bool:
+    def _service_answers(self) -> bool:
         try:
-            rospy.wait_for_service(SERVICE_PATH, timeout=0.2)
+            rospy.wait_for_service(self.service, timeout=0.2)
             return True
         except rospy.ROSException:
             return False
@@ -146,15 +149,16 @@ def main() -> int:
         say("error: ~duration must be positive and ~tail not negative (got %r and %r)" % (duration, tail))
         write_outcome(outcome_file, EXIT_FAILED, "invalid ~duration or ~tail")
         return EXIT_FAILED
-    node = "/" + contract.NODE_NAME
+    # Relative names: the driver, the node and the recorder share a namespace (README: "Several robots").
+    node = rospy.resolve_name(str(rospy.get_param("~node", contract.NODE_NAME)))
     try:
-        setting = run_setting(rospy.get_param(node, {}), None)  # type: Optional[RunSetting]
+        setting = run_setting(rospy.get_param(node, {}), None, node)  # type: Optional[RunSetting]
         platform = setting.platform
     except ValueError:
         setting, platform = None, str(rospy.get_param(node + "/platform", "robot"))  # the node says why
     heading_topic = odometry_topic(PLATFORMS[platform if platform in PLATFORMS else "robot"])
-    driver = DemoDriver(duration, tail, bool(rospy.get_param("~gesture", False)),
-                        str(rospy.get_param("~recorder", "/animateBehaviourRecorder")),
+    driver = DemoDriver(node, duration, tail, bool(rospy.get_param("~gesture", False)),
+                        rospy.resolve_name(str(rospy.get_param("~recorder", RECORDER_NAME))),
                         float(rospy.get_param("~startup_timeout", 40.0)), setting, heading_topic,
                         bool(rospy.get_param("~interaction", False)))
     signal.signal(signal.SIGINT, driver.on_signal)

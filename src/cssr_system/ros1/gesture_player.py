@@ -69,9 +69,9 @@ class GesturePlayer:
 
 def main() -> int:
     rospy.init_node(NODE_NAME)
-    node = rospy.get_param("~node", "/" + contract.NODE_NAME)
+    node = rospy.resolve_name(str(rospy.get_param("~node", contract.NODE_NAME)))  # relative: in our namespace
     try:
-        topics = run_setting(rospy.get_param(node, {}), os.environ.get("ROS_HOME")).topics
+        topics = run_setting(rospy.get_param(node, {}), os.environ.get("ROS_HOME"), node).topics
     except ValueError as error:
         say("error: the configuration of %s cannot be read: %s" % (node, error))
         return 1

@@ -34,7 +34,7 @@ from sensor_msgs.msg import JointState
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import ConfigurationError, shipped_configuration_path
 from cssr_system.animate_behaviour.contract import NODE_PARAMETERS
-from cssr_system.animate_behaviour.event_log import default_log_path
+from cssr_system.animate_behaviour.event_log import default_log_path, node_log_file_name
 from cssr_system.harness import checks, session, settings
 from cssr_system.harness.session import (CONFIG_FILE_NAME, NODE_CONFIG_FILE_NAME, REPORT_FILE_NAME,
                                          HarnessError)
@@ -54,7 +54,7 @@ class Recorder(session.SampleRecorder):
 
     def __init__(self, wheels_topic: str, odometry_topic: str) -> None:
         super().__init__()
-        rospy.Subscriber("/joint_states", JointState, self._on_joint_state, queue_size=50)
+        rospy.Subscriber(contract.JOINT_STATES_TOPIC, JointState, self._on_joint_state, queue_size=50)
         if odometry_topic:
             rospy.Subscriber(odometry_topic, Odometry, self._on_odometry, queue_size=50)
         if wheels_topic:
@@ -93,9 +93,9 @@ class Harness(session.NodeLink):
             self.config = settings.load_harness_configuration(self.config_file, overrides, self.data_dir)
         except ConfigurationError as error:
             raise HarnessError("invalid test configuration: {}".format(error)) from None
-        self.node_name = rospy.resolve_name(rospy.get_param("~nodeName", "/" + contract.NODE_NAME))
-        # The node offers its service under its namespace (contract.SERVICE_NAME is relative).
-        self.service_name = rospy.names.ns_join(rospy.names.namespace(self.node_name), contract.SERVICE_NAME)
+        # Relative: the node under test is in the harness's namespace; its service is under its name.
+        self.node_name = rospy.resolve_name(rospy.get_param("~nodeName", contract.NODE_NAME))
+        self.service_name = contract.interface_of(self.node_name, contract.SET_ACTIVATION)
         self.node_config_param = self.node_name + "/configFile"
         self.original_node_config = rospy.get_param(self.node_config_param, None)
         self.node_config_file = os.path.abspath(rospy.get_param(
@@ -106,7 +106,8 @@ class Harness(session.NodeLink):
         except ValueError as error:
             raise HarnessError(str(error)) from None
         self.node_log_file = os.path.abspath(rospy.get_param("~nodeLogFile", rospy.get_param(
-            self.node_name + "/logFile", default_log_path(self.package_dir, os.environ.get("ROS_HOME")))))
+            self.node_name + "/logFile", default_log_path(self.package_dir, os.environ.get("ROS_HOME"),
+                                                          node_log_file_name(self.node_name)))))
         self.report_file = os.path.abspath(rospy.get_param("~reportFile", default_log_path(
             self.package_dir, os.environ.get("ROS_HOME"), file_name=REPORT_FILE_NAME)))
         self.wheels_topic, default_odometry = session.base_topics(self.config, self.data_dir)

@@ -53,7 +53,7 @@ def load_node_configuration(settings: Optional[Dict[str, object]] = None) -> Tup
     parameters = private_parameters()
     overrides = parameter_overrides(parameters)
     overrides.update(settings or {})
-    return configure(config_file_parameter(parameters), overrides)
+    return configure(config_file_parameter(parameters), overrides, rospy.resolve_name)
 
 
 class LiveSettingsServer:

@@ -96,10 +96,10 @@ def node_parameters(node: str) -> Dict[str, Any]:
 def main() -> int:
     rospy.init_node(NODE_NAME)
     output_dir = os.path.abspath(rospy.get_param("~output_dir", default_output_dir()))
-    node = rospy.get_param("~node", "/" + contract.NODE_NAME)
+    node = rospy.resolve_name(str(rospy.get_param("~node", contract.NODE_NAME)))  # relative: in our namespace
     parameters = node_parameters(node)
     try:
-        setting = run_setting(parameters, os.environ.get("ROS_HOME"))  # type: Optional[RunSetting]
+        setting = run_setting(parameters, os.environ.get("ROS_HOME"), node)  # type: Optional[RunSetting]
         platform = setting.platform
         topics = setting.topics
     except ValueError as error:
@@ -107,7 +107,7 @@ def main() -> int:
         setting, platform, topics = None, str(parameters.get("platform", "robot")), {}
     heading_topic = odometry_topic(PLATFORMS[platform if platform in PLATFORMS else "robot"])
     recorder = MessageRecorder(node, setting, heading_topic)
-    rospy.Subscriber("/joint_states", JointState, recorder.on_joint_states, queue_size=100)
+    rospy.Subscriber(contract.JOINT_STATES_TOPIC, JointState, recorder.on_joint_states, queue_size=100)
     rospy.Subscriber(heading_topic, Odometry, recorder.on_odometry, queue_size=100)
     actions = [(key, topics[key]) for key in PARTS if key in topics]
     for key, action in actions:
@@ -117,7 +117,7 @@ def main() -> int:
                          queue_size=20)
     # With actuation joint_angles the node's commands are setAngles calls; other nodes' calls are marked either way.
     rospy.Subscriber(joint_angles_topic(topics), JointAnglesWithSpeed, recorder.on_joint_angles, queue_size=100)
-    rospy.loginfo("%s: recording /joint_states, %s, the goals on %d actions and the calls on %s; output in %s",
+    rospy.loginfo("%s: recording joint_states, %s, the goals on %d actions and the calls on %s; output in %s",
                   NODE_NAME, heading_topic, len(actions), joint_angles_topic(topics), output_dir)
     rospy.spin()  # until Ctrl-C or the end of the launch
     return recorder.save(output_dir)

@@ -7,7 +7,7 @@ from std_srvs.srv import SetBool, SetBoolResponse
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import (ACCEPTED_STATES, DISABLED, ENABLED, NODE_NAME, REPLY_FAILURE,
-                                                    REPLY_SUCCESS, SERVICE_NAME, SET_ENABLED_SERVICE_NAME)
+                                                    REPLY_SUCCESS, SET_ACTIVATION, SET_ENABLED)
 from cssr_system.core.activation import Activation
 from cssr_system.ros1.parameters import config_file_parameter, load_node_configuration
 from cssr_system.srv import setActivation, setActivationResponse
@@ -25,11 +25,12 @@ class ActivationServices:
             service.shutdown("the node stops")
 
     def advertise(self) -> None:
-        self._services = [rospy.Service(SERVICE_NAME, setActivation, self.handle_set_activation),
-                          rospy.Service(SET_ENABLED_SERVICE_NAME, SetBool, self.handle_set_enabled)]
+        # Private names: under the node's name, in its namespace (README: "Several robots").
+        self._services = [rospy.Service("~" + SET_ACTIVATION, setActivation, self.handle_set_activation),
+                          rospy.Service("~" + SET_ENABLED, SetBool, self.handle_set_enabled)]
         rospy.loginfo("%s: service %s ready (requests: %s); %s ready.", NODE_NAME,
-                      rospy.resolve_name(SERVICE_NAME), ", ".join(ACCEPTED_STATES),
-                      rospy.resolve_name(SET_ENABLED_SERVICE_NAME))
+                      rospy.resolve_name("~" + SET_ACTIVATION), ", ".join(ACCEPTED_STATES),
+                      rospy.resolve_name("~" + SET_ENABLED))
 
     def handle_set_activation(self, request) -> setActivationResponse:
         accepted, _ = self._activation.activate(request.state)

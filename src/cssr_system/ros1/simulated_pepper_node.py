@@ -3,8 +3,8 @@
 The model (controllers, base) is cssr_system.pepper.simulated_pepper; this node only carries it over ROS.
 
 Parameters (private):
-  ~platform            "robot" (default: /pepper_dcm, hand controllers, cmd_moveto) or "simulator"
-                       (/pepper, no hand controllers, cmd_vel)
+  ~platform            "robot" (default: pepper_dcm, hand controllers, cmd_moveto) or "simulator"
+                       (pepper, no hand controllers, cmd_vel)
   ~initial_posture     "rest" (default: every part at its centre, head 0) or "zero"
   ~moveto_keep_latest  false (default): cmd_moveto commands arriving while the base turns or settles are
                        dropped; true: the latest of them runs when the base is free (a queue of one)
@@ -26,15 +26,16 @@ Parameters (private):
                        unless the goal sets its own goal_tolerance
   Goals are judged as joint_trajectory_controller judges them (cssr_system.pepper.simulated_pepper): they succeed,
   or abort with PATH_TOLERANCE_VIOLATED or GOAL_TOLERANCE_VIOLATED.
-Serves:
+Serves (every name relative: the node's own namespace applies, README "Several robots"; <ns> is pepper_dcm
+or pepper):
   <ns>/<Name>_controller/follow_joint_trajectory   control_msgs/FollowJointTrajectory (ActionServer)
   <ns>/<Name>_controller/command                   trajectory_msgs/JointTrajectory (subscribed, obeyed like a goal)
   <ns>/cmd_moveto or <ns>/cmd_vel                  geometry_msgs/Twist (subscribed)
-  /joint_angles        naoqi_bridge_msgs/JointAnglesWithSpeed (subscribed with ~driver naoqi_driver); a message
+  joint_angles         naoqi_bridge_msgs/JointAnglesWithSpeed (subscribed with ~driver naoqi_driver); a message
                        whose lengths differ, that names an unknown joint, has a speed outside (0, 1] or a value that
                        is not finite is ignored, with one warning for the first message of each kind
 Publishes:
-  /joint_states        sensor_msgs/JointState, 50 Hz, every joint and the wheels, as the controllers' hardware reports
+  joint_states         sensor_msgs/JointState, 50 Hz, every joint and the wheels, as the controllers' hardware reports
                        them at their latest update (~velocity_report; with "commanded", the desired state now;
                        with ~driver naoqi_dcm or naoqi_driver, what the driver executes)
   <ns>/odom            nav_msgs/Odometry, 50 Hz, base heading (frame odom, child base_footprint)
@@ -57,6 +58,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import UInt32
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
+from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC
 from cssr_system.pepper.joint_table import command_topic, JOINTS, WHEEL_JOINTS
 from cssr_system.pepper.simulated_pepper import (CONTROL_RATE, GOAL_TIME, MEASURED, PLATFORMS, POSTURES,
                                                  STOPPED_VELOCITY_TOLERANCE, SUCCESSFUL, GoalPoint, GoalTolerances,
@@ -67,7 +69,7 @@ from cssr_system.pepper.simulated_pepper import (CONTROL_RATE, GOAL_TIME, MEASUR
 NODE_NAME = "simulatedPepper"
 UPDATE_RATE = 50.0  # Hz: stepping the model (its control loop catches up), /joint_states and odometry
 MAX_VIOLATIONS_LOGGED = 4  # per goal, so one bad goal makes one readable warning
-JOINT_ANGLES_TOPIC = "/joint_angles"  # naoqi_driver's setAngles topic
+JOINT_ANGLES_TOPIC = "joint_angles"  # naoqi_driver's setAngles topic, in the namespace
 
 
 class SimulatedPepperNode:
@@ -87,7 +89,7 @@ class SimulatedPepperNode:
         self._reported_violations = -1
         self._violation_lock = threading.Lock()
 
-        self.joint_state_publisher = rospy.Publisher("/joint_states", JointState, queue_size=10)
+        self.joint_state_publisher = rospy.Publisher(JOINT_STATES_TOPIC, JointState, queue_size=10)
         # With the robot's driver modelled, /joint_states is what the driver executes; this is what was commanded.
         self.commanded_publisher = rospy.Publisher("~commanded_joint_states", JointState, queue_size=10)
         self._commanded = JointState(name=list(JOINTS) + list(WHEEL_JOINTS))

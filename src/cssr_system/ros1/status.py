@@ -1,12 +1,13 @@
 """The node's status on ROS 1 (README: "Status"): the latched status topic, published at every change, and the same
-as ROS diagnostics: one DiagnosticStatus named after the node (core/status.py says what they hold)."""
+as ROS diagnostics: one DiagnosticStatus named after the node's resolved name, whose hardware id is the robot's
+namespace (core/status.py says what they hold)."""
 from typing import List, Optional
 
 import rospy
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 
 from cssr_system.animate_behaviour.configuration import Configuration
-from cssr_system.animate_behaviour.contract import DIAGNOSTICS_TOPIC, NODE_NAME, STATUS_TOPIC
+from cssr_system.animate_behaviour.contract import DIAGNOSTICS_TOPIC, STATUS, robot_of
 from cssr_system.animate_behaviour.live_settings import moving_parts
 from cssr_system.core.status import StatusChanges, diagnostic_summary, part_rows
 from cssr_system.msg import AnimateBehaviourStatus, PartStatus
@@ -20,7 +21,7 @@ def part_statuses(rows) -> List[PartStatus]:
 
 class StatusPublisher:
     def __init__(self) -> None:
-        self._status = rospy.Publisher(STATUS_TOPIC, AnimateBehaviourStatus, queue_size=1, latch=True)
+        self._status = rospy.Publisher("~" + STATUS, AnimateBehaviourStatus, queue_size=1, latch=True)
         self._diagnostics = rospy.Publisher(DIAGNOSTICS_TOPIC, DiagnosticArray, queue_size=1)
         self._changes = StatusChanges()
 
@@ -36,13 +37,16 @@ class StatusPublisher:
             message.motion_style, message.moving_parts = settings.motion_style, moving_parts(settings)
         message.header.stamp = rospy.Time.now()
         self._status.publish(message)
-        self._diagnostics.publish(status_diagnostics(enabled, rows, message.header))
+        self._diagnostics.publish(status_diagnostics(enabled, rows, message.header, rospy.get_name(),
+                                                     rospy.get_namespace()))
 
 
-def status_diagnostics(enabled: bool, rows, header) -> DiagnosticArray:
+def status_diagnostics(enabled: bool, rows, header, node: str, namespace: str) -> DiagnosticArray:
+    """The status as diagnostics of the node whose resolved name is `node`, in `namespace` (at the root with the
+    default name: named ``animateBehaviour``, hardware id ``pepper``)."""
     waiting, summary, values = diagnostic_summary(enabled, rows)
     array = DiagnosticArray(header=header)
-    array.status = [DiagnosticStatus(level=DiagnosticStatus.WARN if waiting else DiagnosticStatus.OK, name=NODE_NAME,
-                                     message=summary, hardware_id="pepper",
+    array.status = [DiagnosticStatus(level=DiagnosticStatus.WARN if waiting else DiagnosticStatus.OK,
+                                     name=node.lstrip("/"), message=summary, hardware_id=robot_of(namespace),
                                      values=[KeyValue(key=key, value=value) for key, value in values])]
     return array

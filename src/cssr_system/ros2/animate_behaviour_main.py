@@ -83,6 +83,7 @@ def main(argv: Optional[List[str]] = None) -> int:
     except Exception as error:  # nothing moves yet: say why, once, and exit
         return fail("cannot start: {}: {}".format(type(error).__name__, error))
     wiring.log.write(contract.NODE_STARTED, version=wiring.version, node=node.get_fully_qualified_name(),
+                     namespace=node.get_namespace(),
                      config_file=wiring.parameters.config_file, log_file=wiring.log.path, parameters={},
                      arguments=(sys.argv if argv is None else argv)[1:])
     loaded = load(wiring)

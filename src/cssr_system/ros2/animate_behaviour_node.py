@@ -13,7 +13,8 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import JOINT_ANGLES_ACTUATION, Configuration, configuration_items
 from cssr_system.animate_behaviour.console import HEARTBEAT_PERIOD, console
 from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC, NODE_NAME
-from cssr_system.animate_behaviour.event_log import BackgroundLog, EventLog, default_log_path
+from cssr_system.animate_behaviour.event_log import (BackgroundLog, EventLog, claim_log_file, default_log_path,
+                                                     node_log_file_name)
 from cssr_system.animate_behaviour.topics import joint_angles_topic
 from cssr_system.core.activation import Activation
 from cssr_system.core.base_stream import BaseStream
@@ -56,15 +57,23 @@ class AnimateBehaviourNode:
         self.node = node
         self.version = package_version()
         self.parameters = NodeParameters(node, self._post)
-        log_file = self.parameters.log_file or default_log_path(package_dir(), os.environ.get("ROS_HOME"))
+        # Named after the node's resolved name, and never shared with another running instance (README: "Several
+        # robots").
+        name = node.get_fully_qualified_name()
+        default_log_file = default_log_path(package_dir(), os.environ.get("ROS_HOME"), node_log_file_name(name))
+        log_file, clash = claim_log_file(self.parameters.log_file or default_log_file, name)
+        if clash:
+            console.warning(clash)
         self.log = BackgroundLog(EventLog(log_file))
         problems = Problems(self.log)  # one console line and one log line each
         self.report_error, self.report_problem = problems.error, problems.bad_input
         # ROS time (simulated with use_sim_time, as ros2_control's controllers): the streams' deadlines.
         self.clock = lambda: clock_seconds(node)
         self.own_goals: Set[bytes] = set()  # every goal id this node sends: other clients' goals are the rest
-        self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text))
-        self._switch = SubscriptionSwitch(self._subscribe_joint_states, None, self.report_error, JOINT_STATES_TOPIC)
+        joint_states = node.resolve_topic_name(JOINT_STATES_TOPIC)  # in the node's namespace, remapped where asked
+        self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text),
+                                            joint_states)
+        self._switch = SubscriptionSwitch(self._subscribe_joint_states, None, self.report_error, joint_states)
         self.feed = JointStateFeed(self.joint_states, self._switch, console.debug)
         self.status = StatusPublisher(node)
         self.supervisor = Supervisor(self.clock, self.log, self._make_part, self._make_base, self.status.publish,
@@ -85,8 +94,9 @@ class AnimateBehaviourNode:
         self._watcher.thread.start()
         activation = Activation(self._post, self.log, self.parameters.load, lambda: self.parameters.config_file)
         self.services = ActivationServices(self.node, activation, self.log)
-        console.info("%s: services %s and %s ready.", NODE_NAME, contract.SERVICE_NAME,
-                     contract.SET_ENABLED_SERVICE_NAME)
+        console.info("%s: services %s and %s ready.", NODE_NAME,
+                     self.node.resolve_service_name("~/" + contract.SET_ACTIVATION),
+                     self.node.resolve_service_name("~/" + contract.SET_ENABLED))
         self.node.create_timer(HEARTBEAT_PERIOD, lambda: console.info("%s: running.", NODE_NAME))
 
     def _post(self, event) -> None:

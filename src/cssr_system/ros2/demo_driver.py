@@ -33,19 +33,18 @@ from rclpy.parameter import Parameter
 from sensor_msgs.msg import JointState
 
 from cssr_system.animate_behaviour import contract
-from cssr_system.animate_behaviour.contract import SERVICE_PATH, STATUS_TOPIC
 from cssr_system.animate_behaviour.live_settings import PRESETS, SETTING_KEYS
 from cssr_system.demo.demo_run import (EXIT_FAILED, NODE_NAME, SERVICE_CALL_TIMEOUT,
                                        DemoRun, Wait, drive, say, service_failure, write_outcome)
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
 from cssr_system.recording.recording import BASE_LABEL, yaw_from_quaternion
+from cssr_system.recording.run_recorder import NODE_NAME as RECORDER_NAME
 from cssr_system.ros2.program import call, on_signals, run_node
 from cssr_system.ros2.rclpy_compat import endpoint_names
 from cssr_system.ros2.status import LATCHED
 
 QUEUE_DEPTH = 100
-NODE_PATH = "/" + contract.NODE_NAME
 EXECUTOR_STOP_TIMEOUT = 2.0  # s
 JOINT_ANGLES_TYPE = "naoqi_bridge_msgs/msg/JointAnglesWithSpeed"  # what the joint_angles actuation streams
 
@@ -53,15 +52,17 @@ JOINT_ANGLES_TYPE = "naoqi_bridge_msgs/msg/JointAnglesWithSpeed"  # what the joi
 class DemoDriver(DemoRun):
     """The run (`demo_run`) on ROS 2."""
 
-    def __init__(self, node: Node, duration: float, tail: float, recorder: str, startup_timeout: float,
+    def __init__(self, node: Node, target: str, duration: float, tail: float, recorder: str, startup_timeout: float,
                  log_file: Optional[str], heading_topic: str, interaction: bool) -> None:
         super().__init__(duration, tail, startup_timeout, log_file, gesture=False, interaction=interaction)
-        self.node, self.recorder = node, recorder
-        self._activation = node.create_client(SetActivation, SERVICE_PATH)
-        self._parameters = node.create_client(SetParameters, NODE_PATH + "/set_parameters")
-        node.create_subscription(JointState, "/joint_states", self._on_joint_states, QUEUE_DEPTH)
+        self.node, self.target, self.recorder = node, target, recorder  # full names of the node and the recorder
+        self.service = contract.interface_of(target, contract.SET_ACTIVATION)
+        self._activation = node.create_client(SetActivation, self.service)
+        self._parameters = node.create_client(SetParameters, target + "/set_parameters")
+        node.create_subscription(JointState, contract.JOINT_STATES_TOPIC, self._on_joint_states, QUEUE_DEPTH)
         node.create_subscription(Odometry, heading_topic, self._on_odometry, QUEUE_DEPTH)
-        node.create_subscription(AnimateBehaviourStatus, "/" + STATUS_TOPIC, self._on_status, LATCHED)
+        node.create_subscription(AnimateBehaviourStatus, contract.interface_of(target, contract.STATUS),
+                                 self._on_status, LATCHED)
 
     def _on_joint_states(self, message: JointState) -> None:
         self.window.add_joint_states(time.time(), message.name, message.position)
@@ -80,7 +81,7 @@ class DemoDriver(DemoRun):
         try:
             return call(self._activation, SetActivation.Request(state=state), timeout).success
         except TimeoutError as error:
-            raise service_failure(state, error) from None
+            raise service_failure(self.service, state, error) from None
 
     def engage(self) -> None:
         """The engaged preset through the node's parameters, as a behaviour tree would switch to it."""
@@ -98,21 +99,22 @@ class DemoDriver(DemoRun):
 
     # -- start-up -------------------------------------------------------------------------------
     def startup_waits(self) -> Sequence[Wait]:
-        waits = [("the animateBehaviour node (its service %s)" % SERVICE_PATH, self._activation.service_is_ready)]
+        waits = [("the animateBehaviour node (its service %s)" % self.service, self._activation.service_is_ready)]
         if self.recorder:
             waits.append(("the recorder %s" % self.recorder, self.records_the_node))
         return waits
 
     def records_the_node(self) -> bool:
-        """Whether the recorder subscribes /joint_states and every JointAngles topic the node publishes: the node's
+        """Whether the recorder subscribes joint_states and every JointAngles topic the node publishes: the node's
         first calls follow the enable within milliseconds, and a subscription made later misses them."""
+        namespace, name = self.target.rsplit("/", 1)
         try:
-            published = self.node.get_publisher_names_and_types_by_node(contract.NODE_NAME, "/")
+            published = self.node.get_publisher_names_and_types_by_node(name, namespace or "/")
         except Exception:  # noqa: BLE001 - the node's service is seen before the node itself: asked again
             return False
         streams = [name for name, types in published if JOINT_ANGLES_TYPE in types]
         return all(self.recorder in endpoint_names(self.node.get_subscriptions_info_by_topic(topic))
-                   for topic in ["/joint_states"] + streams)
+                   for topic in [self.node.resolve_topic_name(contract.JOINT_STATES_TOPIC)] + streams)
 
 
 def number(value, name: str) -> float:
@@ -127,12 +129,14 @@ def make_driver(node: Node) -> DemoDriver:
     dynamic = ParameterDescriptor(dynamic_typing=True)
     value = {name: node.declare_parameter(name, default, dynamic).value for name, default in (
         ("duration", 30.0), ("tail", 3.0), ("platform", "robot"), ("interaction", False),
-        ("recorder", "/animateBehaviourRecorder"), ("log_file", ""), ("startup_timeout", 40.0))}
+        ("node", contract.NODE_NAME), ("recorder", RECORDER_NAME), ("log_file", ""), ("startup_timeout", 40.0))}
     duration, tail = number(value["duration"], "duration"), number(value["tail"], "tail")
     if not duration > 0.0 or tail < 0.0:
         raise ValueError("duration must be positive and tail not negative (got %r and %r)" % (duration, tail))
     heading_topic = odometry_topic(PLATFORMS.get(str(value["platform"]), PLATFORMS["robot"]))
-    return DemoDriver(node, duration, tail, str(value["recorder"]), number(value["startup_timeout"], "startup_timeout"),
+    # Relative names: the driver, the node and the recorder share a namespace (README: "Several robots").
+    target, recorder = (node.resolve_topic_name(str(value[name]), only_expand=True) for name in ("node", "recorder"))
+    return DemoDriver(node, target, duration, tail, recorder, number(value["startup_timeout"], "startup_timeout"),
                       str(value["log_file"]) or None, heading_topic, value["interaction"] is True)
 
 

@@ -81,10 +81,9 @@ class Ros2Harness(session.NodeLink):
         self.node = Node(NODE_NAME, context=self.context)
         self.recorder = session.SampleRecorder()
         self._subscribe()
-        # The node's services: setActivation under the node's namespace (contract.SERVICE_NAME is relative), the
-        # parameter services under the node's own name.
-        service = "{}/{}".format(_namespace(node_name).rstrip("/"), contract.SERVICE_NAME)
-        self._activation = self.node.create_client(SetActivation, service)
+        # The node's services, setActivation and the parameter services, are under the node's own name.
+        self._activation = self.node.create_client(SetActivation, contract.interface_of(node_name,
+                                                                                        contract.SET_ACTIVATION))
         self._set_parameters = self.node.create_client(SetParametersAtomically,
                                                        node_name + "/set_parameters_atomically")
         self._get_parameters = self.node.create_client(GetParameters, node_name + "/get_parameters")

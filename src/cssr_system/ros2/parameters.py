@@ -59,7 +59,7 @@ class NodeParameters:
     def load(self, settings: Optional[Dict[str, object]] = None) -> tuple:
         """(configuration file, configuration, topics) as the parameters, then `settings`, say; raises
         ConfigurationError."""
-        return configure(self.config_file, self.overrides(settings))
+        return configure(self.config_file, self.overrides(settings), self._node.resolve_topic_name)
 
     def _on_set(self, parameters) -> SetParametersResult:
         changes = {parameter.name: parameter.value for parameter in parameters if parameter.name in KEYS}

@@ -62,13 +62,14 @@ def parameter_values(names: List[str], values: List[Any]) -> Dict[str, Any]:
             if value.type in VALUE_FIELDS}
 
 
-def resolve_setting(node_values: Dict[str, Any], log_file: str, platform: str) -> Optional[RunSetting]:
-    """The run's setting from the node's parameters, the recorder's `log_file` and `platform` winning; None (after
-    a line saying why) when its configuration cannot be read."""
+def resolve_setting(node_values: Dict[str, Any], log_file: str, platform: str,
+                    target: str) -> Optional[RunSetting]:
+    """The run's setting of the node `target` (its full name) from its parameters, the recorder's `log_file` and
+    `platform` winning; None (after a line saying why) when its configuration cannot be read."""
     values = dict(node_values)
     values.update({key: value for key, value in (("logFile", log_file), ("platform", platform)) if value})
     try:
-        return run_setting(values, os.environ.get("ROS_HOME"))
+        return run_setting(values, os.environ.get("ROS_HOME"), target)
     except ValueError as error:
         say("the configuration of the node cannot be read (%s): recording without its log" % error)
         return None
@@ -82,8 +83,8 @@ class MessageRecorder(RunRecorder):
         super().__init__(target, None, "")
         self._node = node
         self._log_file, self._platform = log_file, platform
-        self._subscriptions = [node.create_subscription(JointState, "/joint_states", self.on_joint_states,
-                                                        QUEUE_DEPTH)]
+        self._subscriptions = [node.create_subscription(JointState, contract.JOINT_STATES_TOPIC,
+                                                        self.on_joint_states, QUEUE_DEPTH)]
         self._heading_subscribed = False
         if platform:
             self._subscribe_heading(platform)
@@ -112,7 +113,7 @@ class MessageRecorder(RunRecorder):
         if "platform" not in values:  # asked before the node declared its configuration keys: ask again
             return
         self._timer.cancel()
-        self.setting = resolve_setting(values, self._log_file, self._platform)
+        self.setting = resolve_setting(values, self._log_file, self._platform, self.node)
         if not self._heading_subscribed:
             self._subscribe_heading(self.setting.platform if self.setting is not None else str(values["platform"]))
         calls = joint_angles_topic(self.setting.topics if self.setting is not None else {})
@@ -124,7 +125,7 @@ class MessageRecorder(RunRecorder):
     def finish(self) -> None:
         """Where the node never answered: its log and configuration as the node would resolve them by default."""
         if self.setting is None:
-            self.setting = resolve_setting({}, self._log_file, self._platform)
+            self.setting = resolve_setting({}, self._log_file, self._platform, self.node)
 
     # -- messages -------------------------------------------------------------------------------
     def on_joint_states(self, message: JointState) -> None:
@@ -149,7 +150,8 @@ class MessageRecorder(RunRecorder):
 def record(node: Node, stop: threading.Event) -> int:
     """Record on `node` until `stop` is set, then write the recording and its plot: 0 when written."""
     output_dir = os.path.abspath(node.declare_parameter("output_dir", "").value or default_output_dir())
-    target = node.declare_parameter("node", "/" + contract.NODE_NAME).value
+    # Relative: the node recorded is in the recorder's namespace (README: "Several robots").
+    target = node.resolve_topic_name(node.declare_parameter("node", contract.NODE_NAME).value, only_expand=True)
     recorder = MessageRecorder(node, target, node.declare_parameter("log_file", "").value,
                                node.declare_parameter("platform", "").value)
     executor = SingleThreadedExecutor()

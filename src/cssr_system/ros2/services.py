@@ -13,9 +13,10 @@ class ActivationServices:
         self._log = log
         self._activation = activation
         self._services = [
-            node.create_service(SetActivation, contract.SERVICE_NAME, self.handle_set_activation,
+            # Private names: under the node's name, in its namespace (README: "Several robots").
+            node.create_service(SetActivation, "~/" + contract.SET_ACTIVATION, self.handle_set_activation,
                                 callback_group=callback_group),
-            node.create_service(SetBool, contract.SET_ENABLED_SERVICE_NAME, self.handle_set_enabled,
+            node.create_service(SetBool, "~/" + contract.SET_ENABLED, self.handle_set_enabled,
                                 callback_group=callback_group)]
         self._node = node
 

@@ -7,7 +7,7 @@ on the interfaces ros2_control's joint_trajectory_controller and naoqi_driver2 s
   ros2 run cssr_system simulated_pepper --ros-args -p platform:=simulator
 
 Parameters (declared with these defaults; any other is ignored):
-  platform            "robot" (/pepper_dcm, hand controllers, cmd_moveto) or "simulator" (/pepper, no hands, cmd_vel)
+  platform            "robot" (pepper_dcm, hand controllers, cmd_moveto) or "simulator" (pepper, no hands, cmd_vel)
   initial_posture     "rest" (every part at its centre) or "zero"
   moveto_keep_latest  false: cmd_moveto commands arriving while the base turns or settles are dropped; true: the
                       latest of them runs when the base is free
@@ -18,7 +18,7 @@ Parameters (declared with these defaults; any other is ignored):
   goal_time           s after a trajectory's end allowed to get inside the goal tolerances (0.0)
   stopped_velocity_tolerance  every joint's velocity tolerance at a goal's end (0.01; 0: unchecked)
   An invalid value: one line naming it and what was expected, exit status 1.
-Serves:
+Serves (every name relative: the node's own namespace applies; <ns> is pepper_dcm or pepper):
   <ns>/<Name>_controller/follow_joint_trajectory  control_msgs/action/FollowJointTrajectory. As ros2_control's
                       joint_trajectory_controller (Jazzy and later): a goal the model would refuse (joints, points)
                       is rejected; an accepted one succeeds or aborts with the model's error code and string; a new
@@ -26,9 +26,9 @@ Serves:
                       cancel stops the joints where they are and the goal ends canceled with an empty result
   <ns>/<Name>_controller/joint_trajectory  trajectory_msgs/msg/JointTrajectory, obeyed like a goal, no result
   <ns>/cmd_moveto or <ns>/cmd_vel  geometry_msgs/msg/Twist
-  /joint_angles       naoqi_bridge_msgs/msg/JointAnglesWithSpeed (with driver naoqi_driver)
+  joint_angles        naoqi_bridge_msgs/msg/JointAnglesWithSpeed (with driver naoqi_driver)
 Publishes:
-  /joint_states       sensor_msgs/msg/JointState, 50 Hz, every joint and the wheels
+  joint_states        sensor_msgs/msg/JointState, 50 Hz, every joint and the wheels
   <ns>/odom           nav_msgs/msg/Odometry, 50 Hz, the base's heading (frame odom, child base_footprint)
   ~/limit_violations  std_msgs/msg/UInt32, transient local: goal point values beyond a joint limit so far
   ~/commanded_joint_states  sensor_msgs/msg/JointState, 50 Hz, with a driver other than ideal: what is commanded
@@ -57,6 +57,7 @@ from sensor_msgs.msg import JointState
 from std_msgs.msg import UInt32
 from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
+from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC
 from cssr_system.pepper.joint_table import ACTION_NAME, JOINTS, WHEEL_JOINTS
 from cssr_system.pepper.simulated_pepper import (CONTROL_RATE, DRIVERS, GOAL_TIME, IDEAL, INVALID_GOAL, MEASURED,
                                                  NAOQI_DRIVER, PLATFORMS, POSTURES, STOPPED_VELOCITY_TOLERANCE,
@@ -68,7 +69,7 @@ from cssr_system.ros2.program import on_signals, run_node
 NODE_NAME = "simulatedPepper"
 UPDATE_RATE = 50.0  # Hz: stepping the model (its control loop catches up), /joint_states and odometry
 MAX_VIOLATIONS_LOGGED = 4  # per goal, so one bad goal makes one readable warning
-JOINT_ANGLES_TOPIC = "/joint_angles"  # naoqi_driver2's setAngles topic
+JOINT_ANGLES_TOPIC = "joint_angles"  # naoqi_driver2's setAngles topic, in the namespace
 TRAJECTORY_TOPIC_NAME = "joint_trajectory"  # ROS 2 joint_trajectory_controller's topic (ROS 1's is "command")
 # What ros2_controllers' joint_trajectory_controller (Jazzy, Kilted, Rolling) gives a goal that a new goal replaces.
 PREEMPTED_BY_GOAL = "Current goal preempted by new incoming action."
@@ -218,7 +219,7 @@ class SimulatedPepperNode:
 
     def _create_publishers(self) -> None:
         node = self.node
-        self.joint_state_publisher = node.create_publisher(JointState, "/joint_states", 10)
+        self.joint_state_publisher = node.create_publisher(JointState, JOINT_STATES_TOPIC, 10)
         # With the robot's driver modelled, /joint_states is what the driver executes; this is what was commanded.
         self.commanded_publisher = node.create_publisher(JointState, "~/commanded_joint_states", 10)
         self.odometry_publisher = node.create_publisher(Odometry, odometry_topic(self.platform), 10)

@@ -1,5 +1,6 @@
 """The node's status on ROS 2 (README: "Status"): the status topic with a transient-local QoS (ROS 2's latching),
-published at every change, and the same as diagnostics (core/status.py says what they hold)."""
+published at every change, and the same as diagnostics, named after the node's resolved name with the robot's
+namespace as hardware id (core/status.py says what they hold)."""
 from typing import Optional
 
 from cssr_system_interfaces.msg import AnimateBehaviourStatus, PartStatus
@@ -7,7 +8,7 @@ from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
 from rclpy.qos import DurabilityPolicy, QoSProfile
 
 from cssr_system.animate_behaviour.configuration import Configuration
-from cssr_system.animate_behaviour.contract import DIAGNOSTICS_TOPIC, NODE_NAME, STATUS_TOPIC
+from cssr_system.animate_behaviour.contract import DIAGNOSTICS_TOPIC, STATUS, robot_of
 from cssr_system.animate_behaviour.live_settings import moving_parts
 from cssr_system.core.status import StatusChanges, diagnostic_summary, part_rows
 
@@ -17,7 +18,7 @@ LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 class StatusPublisher:
     def __init__(self, node) -> None:
         self._node = node
-        self._status = node.create_publisher(AnimateBehaviourStatus, STATUS_TOPIC, LATCHED)
+        self._status = node.create_publisher(AnimateBehaviourStatus, "~/" + STATUS, LATCHED)
         self._diagnostics = node.create_publisher(DiagnosticArray, DIAGNOSTICS_TOPIC, 1)
         self._changes = StatusChanges()
 
@@ -38,6 +39,7 @@ class StatusPublisher:
         waiting, summary, values = diagnostic_summary(enabled, rows)
         array = DiagnosticArray(header=message.header)
         array.status = [DiagnosticStatus(level=DiagnosticStatus.WARN if waiting else DiagnosticStatus.OK,
-                                         name=NODE_NAME, message=summary, hardware_id="pepper",
+                                         name=self._node.get_fully_qualified_name().lstrip("/"), message=summary,
+                                         hardware_id=robot_of(self._node.get_namespace()),
                                          values=[KeyValue(key=key, value=value) for key, value in values])]
         self._diagnostics.publish(array)
