@@ -5,10 +5,7 @@ parameter change, and a bad configuration.
 
 Run inside the ROS 2 environment: bash tools/ros2/run.sh python3 -m pytest test/ros2 -q
 """
-import os
-import signal
 import subprocess
-import sys
 import threading
 import time
 from pathlib import Path
@@ -41,8 +38,8 @@ from cssr_system.package_files import data_dir  # noqa: E402
 from cssr_system.pepper.joint_table import PARTS  # noqa: E402
 
 from domains import claim_domain  # noqa: E402
+from processes import start_program, stop_program as stop, wait_until  # noqa: E402
 
-SRC = Path(__file__).resolve().parents[2] / "src"
 # The trajectory run's domain, the joint-angle run's and the one-off runs': the first two last as long as this module.
 DOMAIN, JOINT_ANGLES_DOMAIN, ONE_OFF_DOMAIN = claim_domain(), claim_domain(), claim_domain()
 START_TIMEOUT = 20.0  # s; a node starts in 1-2 s, but the machine may be busy
@@ -52,38 +49,8 @@ SIMULATOR_PARTS = {"RArm", "LArm", "Leg"}  # the simulator platform has no hand 
 ARM = PARTS["RArm"].joints
 
 
-def environment(domain: int) -> dict:
-    values = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
-                  PYTHONUNBUFFERED="1")
-    values["PYTHONPATH"] = os.pathsep.join(filter(None, (str(SRC), os.environ.get("PYTHONPATH"))))
-    return values
-
-
 def start(module: str, *parameters: str, domain: int = DOMAIN) -> subprocess.Popen:
-    command = [sys.executable, "-m", module, "--ros-args"]
-    for parameter in parameters:
-        command += ["-p", parameter]
-    return subprocess.Popen(command, env=environment(domain), stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            text=True)
-
-
-def stop(process: subprocess.Popen) -> int:
-    if process.poll() is None:
-        process.send_signal(signal.SIGINT)
-    try:
-        return process.wait(15.0)
-    except subprocess.TimeoutExpired:
-        process.kill()
-        return process.wait()
-
-
-def wait_until(condition, timeout: float, period: float = 0.02) -> bool:
-    deadline = time.monotonic() + timeout
-    while time.monotonic() < deadline:
-        if condition():
-            return True
-        time.sleep(period)
-    return bool(condition())
+    return start_program(module, domain, [word for parameter in parameters for word in ("-p", parameter)])
 
 
 class Client:

@@ -1,0 +1,42 @@
+"""The ROS 2 tests' programs, each a process of its own on the test's domain, found on this machine only."""
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Sequence
+
+SRC = Path(__file__).resolve().parents[2] / "src"
+
+
+def environment(domain: int) -> dict:
+    values = dict(os.environ, ROS_DOMAIN_ID=str(domain), ROS_AUTOMATIC_DISCOVERY_RANGE="LOCALHOST",
+                  PYTHONUNBUFFERED="1")
+    values["PYTHONPATH"] = os.pathsep.join(filter(None, (str(SRC), os.environ.get("PYTHONPATH"))))
+    return values
+
+
+def start_program(module: str, domain: int, ros_arguments: Sequence[str]) -> subprocess.Popen:
+    """`python -m module --ros-args <ros_arguments>` (e.g. "-r", "__ns:=/robot1", "-p", "platform:=robot")."""
+    return subprocess.Popen([sys.executable, "-m", module, "--ros-args", *ros_arguments], env=environment(domain),
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+
+
+def stop_program(process: subprocess.Popen) -> int:
+    if process.poll() is None:
+        process.send_signal(signal.SIGINT)
+    try:
+        return process.wait(15.0)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        return process.wait()
+
+
+def wait_until(condition, timeout: float, period: float = 0.02) -> bool:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if condition():
+            return True
+        time.sleep(period)
+    return bool(condition())
