@@ -10,13 +10,15 @@
 #   make demo STYLE=breathing DRIVER=naoqi_dcm   (the breathing style, executed as the robot's driver would)
 #   make demo INTERACTION=1           half-way, the engaged preset (intensity 0.5, base still)
 #   make demo STYLE=breathing ACTUATION=joint_angles   (streamed to the simulated Pepper run as naoqi_driver)
+#   make demo ROBOTS=2                two robots in robot1 and robot2 (launch/animateBehaviourDemoRobots.launch),
+#                                     robot2 enabled 5 s after robot1; one plot of both, robots.png
 # Environment (what the make variables set): DEMO_DURATION (s, default 30), DEMO_PLATFORM (robot or
 # simulator, default robot), DEMO_BEHAVIOUR (default all), DEMO_OUTPUT_DIR (default: the workspace's demo
 # folder), DEMO_GESTURE (1: a gesture on the right arm half-way), DEMO_INTERACTION (1: the engaged preset
 # half-way), DEMO_ACTUATION (trajectory or joint_angles), DEMO_NODE_ARGS and DEMO_SIM_ARGS
 # (private parameters of the node and of the simulated Pepper, `_name:=value` words; the leading `_` may
 # be left out), DEMO_MASTER_URI (default: a master of its own on a free port, so a master you run is
-# never touched), DEMO_ROS (2: the demo on ROS 2, tools/demo_ros2.sh).
+# never touched), DEMO_ROS (2: the demo on ROS 2, tools/demo_ros2.sh), DEMO_ROBOTS (1 or 2).
 # Exit status: 0 when the run completed, 1 when something did not start or failed, 130 on Ctrl-C.
 #
 # roslaunch supervises the processes. One thing is done here by hand: roslaunch stops all nodes at
@@ -78,17 +80,27 @@ interaction=$(switch INTERACTION "${DEMO_INTERACTION:-0}")
 output_dir=$(mkdir -p "${DEMO_OUTPUT_DIR:-$WORKSPACE_DIR/demo}" && cd "${DEMO_OUTPUT_DIR:-$WORKSPACE_DIR/demo}" && pwd)
 launch_log="$output_dir/roslaunch.log"
 outcome_file="$output_dir/demo_outcome.txt"
-rm -f "$outcome_file"
+rm -f "$outcome_file" "$outcome_file.robot1"
+case ${DEMO_ROBOTS:-1} in
+  1) launch=(animateBehaviourDemo.launch gesture:="$gesture" interaction:="$interaction"
+             actuation:="${DEMO_ACTUATION:-}" log_file:="$output_dir/animateBehaviourLogFile.log")
+     drivers=(/animateBehaviourDemo) ;;
+  2) [ "$gesture$interaction${DEMO_ACTUATION:-}" = falsefalse ] || {
+       echo "demo: error: ROBOTS=2 runs the plain demo on each robot (no GESTURE, INTERACTION or ACTUATION)" >&2
+       exit 1; }
+     launch=(animateBehaviourDemoRobots.launch)
+     drivers=(/robot1/animateBehaviourDemo /robot2/animateBehaviourDemo) ;;
+  *) echo "demo: error: ROBOTS=${DEMO_ROBOTS} (expected 1 or 2)" >&2; exit 1 ;;
+esac
 
 log_step "demo: animateBehaviour on the simulated Pepper (master $ROS_MASTER_URI; full output: $launch_log)"
 # Until the handler below is set, Ctrl-C is ignored here, and the processes started now inherit that:
 # the display always shows the end of the run, and roslaunch sets its own handlers.
 trap '' INT TERM
 : >"$launch_log"  # exists, empty, before the display tails it: the launch appends from its own process
-setsid roslaunch cssr_system animateBehaviourDemo.launch \
+setsid roslaunch cssr_system "${launch[@]}" \
   duration:="${DEMO_DURATION:-30}" platform:="${DEMO_PLATFORM:-robot}" behaviour:="${DEMO_BEHAVIOUR:-all}" \
-  gesture:="$gesture" interaction:="$interaction" actuation:="${DEMO_ACTUATION:-}" output_dir:="$output_dir" \
-  log_file:="$output_dir/animateBehaviourLogFile.log" outcome_file:="$outcome_file" \
+  output_dir:="$output_dir" outcome_file:="$outcome_file" \
   </dev/null >>"$launch_log" 2>&1 &
 launch_pid=$!
 
@@ -106,7 +118,7 @@ while kill -0 "$launch_pid" 2>/dev/null; do
     if [ "$stop_sent" = 0 ]; then
       echo "demo: stopping: the driver disables animateBehaviour first"
       # Before the driver has started, nothing is enabled: roslaunch stops everything.
-      rosnode kill /animateBehaviourDemo >/dev/null 2>&1 || interrupted=2
+      rosnode kill "${drivers[@]}" >/dev/null 2>&1 || interrupted=2
     fi
     stop_sent=$interrupted
   fi
@@ -122,13 +134,22 @@ trap - INT TERM
 if [ "$interrupted" -gt 0 ]; then
   exit 130
 fi
-if [ ! -s "$outcome_file" ]; then
-  echo "demo: error: the demo's driver did not report how the run ended; see $launch_log"
-  exit 1
+outcomes=("$outcome_file")
+[ "${DEMO_ROBOTS:-1}" = 1 ] || outcomes=("$outcome_file.robot1" "$outcome_file")
+for outcome in "${outcomes[@]}"; do
+  if [ ! -s "$outcome" ]; then
+    echo "demo: error: a driver of the demo did not report how the run ended; see $launch_log"
+    exit 1
+  fi
+  read -r status reason < "$outcome"
+  if [ "$status" = 130 ]; then  # the driver was stopped, not by Ctrl-C here: a required node of the launch ended
+    echo "demo: error: a node of the demo stopped before the end ($reason); see the lines above and $launch_log"
+    exit 1
+  fi
+  [ "$status" = 0 ] || exit "$status"
+done
+if [ "${DEMO_ROBOTS:-1}" = 2 ]; then  # one plot of both robots on one time axis
+  python3 scripts/plotAnimation.py "$output_dir/robot1/animation.json" "$output_dir/robot2/animation.json" \
+    -o "$output_dir/robots.png" || exit 1
 fi
-read -r status reason < "$outcome_file"
-if [ "$status" = 130 ]; then  # the driver was stopped, not by Ctrl-C here: a required node of the launch ended
-  echo "demo: error: a node of the demo stopped before the end ($reason); see the lines above and $launch_log"
-  exit 1
-fi
-exit "$status"
+exit 0

@@ -37,6 +37,11 @@ case ${DEMO_GESTURE:-0} in
   0|false|no) ;;
   *) echo "demo: error: GESTURE=${DEMO_GESTURE} needs ROS 1 (there is no ROS 2 gesture player)" >&2; exit 1 ;;
 esac
+case ${DEMO_ROBOTS:-1}/${DEMO_INTERACTION:-0}${DEMO_ACTUATION:-} in
+  1/*|2/0|2/false|2/no) ;;
+  2/*) echo "demo: error: ROBOTS=2 runs the plain demo on each robot (no INTERACTION or ACTUATION)" >&2; exit 1 ;;
+  *) echo "demo: error: ROBOTS=${DEMO_ROBOTS} (expected 1 or 2)" >&2; exit 1 ;;
+esac
 case ${DEMO_INTERACTION:-0} in
   1|true|yes) interaction=true ;;
   0|false|no) interaction=false ;;
@@ -139,45 +144,61 @@ started=()
 # Should this script fail half-way, nothing it started outlives it.
 trap 'stop_programs "${started[@]}"; end_display' EXIT
 [ "$interrupted" = 0 ] || exit 130  # Ctrl-C already: nothing to start
-start cssr_system.ros2.simulated_pepper_node --ros-args "${sim_parameters[@]}"
-sim_pid=$!
-started+=("$sim_pid")
-start cssr_system.ros2.animate_behaviour_main --ros-args -p "logFile:=$log_file" "${node_parameters[@]}"
-node_pid=$!
-started+=("$node_pid")
-start cssr_system.ros2.recorder_node --ros-args -p "output_dir:=$output_dir" -p "log_file:=$log_file" \
-  -p "platform:=$platform"
-recorder_pid=$!
-started+=("$recorder_pid")
-start cssr_system.ros2.demo_driver --ros-args -p "duration:=${DEMO_DURATION:-30}" -p "platform:=$platform" \
-  -p "interaction:=$interaction" -p "log_file:=$log_file" -p "outcome_file:=$outcome_file"
-driver_pid=$!
-started+=("$driver_pid")
+# ROBOTS=2: each robot's four programs in a namespace of their own (robot1, robot2), with the shipped files, its
+# recording and log in a folder of its own; robot2 is enabled 5 s after robot1, so robot1 is disabled first.
+robots=("")
+[ "${DEMO_ROBOTS:-1}" = 1 ] || robots=(robot1 robot2)
+sims=() nodes=() recorders=() drivers=()
+for index in "${!robots[@]}"; do
+  robot=${robots[$index]} namespace=() folder=$output_dir
+  if [ -n "$robot" ]; then
+    namespace=(-r "__ns:=/$robot") folder="$output_dir/$robot"
+    mkdir -p "$folder"
+  fi
+  start cssr_system.ros2.simulated_pepper_node --ros-args "${namespace[@]}" "${sim_parameters[@]}"
+  sims+=($!) started+=($!)
+  start cssr_system.ros2.animate_behaviour_main --ros-args "${namespace[@]}" \
+    -p "logFile:=$folder/animateBehaviourLogFile.log" "${node_parameters[@]}"
+  nodes+=($!) started+=($!)
+  start cssr_system.ros2.recorder_node --ros-args "${namespace[@]}" -p "output_dir:=$folder" \
+    -p "log_file:=$folder/animateBehaviourLogFile.log" -p "platform:=$platform"
+  recorders+=($!) started+=($!)
+  start cssr_system.ros2.demo_driver --ros-args "${namespace[@]}" -p "duration:=${DEMO_DURATION:-30}" \
+    -p "delay:=$((index * 5)).0" -p "platform:=$platform" -p "interaction:=$interaction" \
+    -p "log_file:=$folder/animateBehaviourLogFile.log" -p "outcome_file:=$folder/demo_outcome.txt"
+  drivers+=($!) started+=($!)
+done
+any_running() { local pid; for pid in "$@"; do running "$pid" && return 0; done; return 1; }
+all_running() { local pid; for pid in "$@"; do running "$pid" || return 1; done; return 0; }
 
 failed=
 stop_sent=0
-while running "$driver_pid"; do
-  if [ "$interrupted" -gt 1 ]; then  # a second Ctrl-C: no more waiting for the driver; the node stops the robot
+while any_running "${drivers[@]}"; do
+  if [ "$interrupted" -gt 1 ]; then  # a second Ctrl-C: no more waiting for the drivers; the nodes stop the robots
     break
   elif [ "$interrupted" = 1 ] && [ "$stop_sent" = 0 ]; then
     echo "demo: stopping: the driver disables animateBehaviour first"
-    kill -INT "$driver_pid" 2>/dev/null || true
+    kill -INT "${drivers[@]}" 2>/dev/null || true
     stop_sent=1
   fi
-  if ! running "$sim_pid" || ! running "$node_pid"; then
+  if ! all_running "${sims[@]}" "${nodes[@]}"; then
     break
   fi
   sleep 0.1 & wait $! || true
 done
 # Both run until stopped below: one that has ended failed (a bad parameter, a crash).
-running "$node_pid" || failed="the animateBehaviour node stopped"
-running "$sim_pid" || failed="the simulated Pepper stopped"
-stop_programs "$driver_pid"
+all_running "${nodes[@]}" || failed="an animateBehaviour node stopped"
+all_running "${sims[@]}" || failed="a simulated Pepper stopped"
+stop_programs "${drivers[@]}"
 driver_status=0
-wait "$driver_pid" || driver_status=$?
-stop_programs "$recorder_pid" "$node_pid" "$sim_pid"
+for pid in "${drivers[@]}"; do
+  status=0
+  wait "$pid" || status=$?
+  [ "$driver_status" != 0 ] || driver_status=$status
+done
+stop_programs "${recorders[@]}" "${nodes[@]}" "${sims[@]}"
 recorder_status=0
-wait "$recorder_pid" || recorder_status=$?
+for pid in "${recorders[@]}"; do wait "$pid" || recorder_status=$?; done
 end_display
 trap - INT TERM EXIT
 
@@ -199,4 +220,9 @@ fi
 if [ "$recorder_status" != 0 ]; then
   echo "demo: error: the recorder wrote no plot; see the lines above and $run_log"
   exit 1
+fi
+if [ "${#robots[@]}" = 2 ]; then  # one plot of both robots on one time axis
+  bash tools/ros2/run.sh bash -c 'PYTHONPATH="$0${PYTHONPATH:+:$PYTHONPATH}" exec python3 scripts/plotAnimation.py "$@"' \
+    "$REPO_DIR/src" "$output_dir/robot1/animation.json" "$output_dir/robot2/animation.json" -o "$output_dir/robots.png" \
+    || exit 1
 fi

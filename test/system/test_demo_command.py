@@ -195,3 +195,27 @@ def test_demo_with_the_joint_angles_actuation_streams_and_returns_every_joint_to
             assert abs(last[name] - centre) < 0.01, name
     assert "ACTUATION=joint_angles runs the simulated Pepper as naoqi_driver" in run_demo(
         tmp_path, ACTUATION="joint_angles", DRIVER="naoqi_dcm")[1]
+
+
+def test_demo_with_two_robots_enables_each_on_its_own_and_plots_both(tmp_path):
+    status, output, _ = run_demo(tmp_path, DURATION=DEMO_DURATION, ROBOTS=2)
+    assert status == 0, output
+    from cssr_system.recording.plot import robots_timeline  # after the skip: needs the workspace
+    from cssr_system.recording.recording import read_recording
+    recordings = {robot: read_recording(os.path.join(str(tmp_path), robot, "animation.json"))
+                  for robot in ("robot1", "robot2")}
+    timeline = robots_timeline(recordings)
+    (enabled1, disabled1), (enabled2, disabled2) = ([moment for moment, _ in timeline[robot][2]]
+                                                    for robot in ("robot1", "robot2"))
+    assert enabled1 == pytest.approx(0.0) and 3.0 < enabled2 - enabled1 < 7.0, "robot2 is enabled after robot1"
+    assert disabled1 < disabled2, "robot1 is disabled first"
+    for robot in recordings:  # each node commanded its own robot only, and wrote its own log file
+        commanded = recordings[robot].commanded
+        assert commanded is not None and commanded.source == "/%s/animateBehaviour" % robot
+    with open(os.path.join(str(tmp_path), "robots.png"), "rb") as image:
+        assert image.read().startswith(PNG_SIGNATURE)
+
+
+def test_demo_with_an_unknown_number_of_robots_says_so_and_fails(tmp_path):
+    status, output, _ = run_demo(tmp_path, ROBOTS=3)
+    assert status == 1 and "ROBOTS=3 (expected 1 or 2)" in output, output

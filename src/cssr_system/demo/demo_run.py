@@ -37,11 +37,13 @@ class Interrupted(Exception):
 
 
 class DemoRun:
-    """The run; `log_file`: the node's log, where the reason for a refused enable is (None: unknown)."""
+    """The run; `log_file`: the node's log, where the reason for a refused enable is (None: unknown); `delay`: s
+    more at rest before the enable (a second robot enabled after the first)."""
 
     def __init__(self, duration: float, tail: float, startup_timeout: float, log_file: Optional[str],
-                 gesture: bool = False, interaction: bool = False) -> None:
+                 gesture: bool = False, interaction: bool = False, delay: float = 0.0) -> None:
         self.duration, self.tail, self.gesture, self.interaction = duration, tail, gesture, interaction
+        self.delay = delay
         self.startup_timeout = startup_timeout
         self.log_file = log_file
         self.window = LiveWindow()
@@ -128,7 +130,7 @@ class DemoRun:
 
     def run(self) -> None:
         self.wait_for_start()
-        self.pause(REST_BEFORE)
+        self.pause(REST_BEFORE + self.delay)
         say("enabling animateBehaviour for %g s (Ctrl-C stops early)" % self.duration)
         self.enable()
         enabled_at = time.monotonic()

@@ -14,10 +14,12 @@ import datetime
 import math
 import os
 import sys
-from typing import Any, Dict, Optional, Sequence, Tuple
+from typing import Any, Dict, Mapping, Optional, Sequence, Tuple
+
+import numpy
 
 from cssr_system.animate_behaviour.contract import ENABLED
-from cssr_system.pepper.joint_table import PARTS
+from cssr_system.pepper.joint_table import PARTS, centre_of
 from cssr_system.recording.recording import (BAND_TOLERANCE, Recording, heading_at_time,
                                              band_excess, enabled_intervals,
                                              heading_excess, plotted_parts,
@@ -237,9 +239,55 @@ def _plot_heading(axis: Any, recording: Recording) -> None:
     axis.legend(loc="upper left", fontsize=8, ncol=2, framealpha=0.85)
 
 
+def robots_timeline(recordings: Mapping[str, Recording]) -> Dict[str, Tuple[numpy.ndarray, numpy.ndarray, list]]:
+    """Per robot: (times, each joint's offset from its centre, the activations), on one clock whose 0 is the first
+    enable of any robot (else the earliest recording's start), for robots recorded side by side."""
+    starts = [recording.start_epoch + time_origin(recording) for recording in recordings.values()]
+    origin = min(starts) if starts else 0.0
+    animated = {joint for part in PARTS.values() for joint in part.joints}
+    timeline = {}
+    for robot, recording in recordings.items():
+        shift = recording.start_epoch - origin
+        centres = numpy.array([centre_of(name) if name in animated else numpy.nan for name in recording.joint_names])
+        offsets = recording.positions - centres if len(recording.times) else recording.positions
+        timeline[robot] = (recording.times + shift, offsets,
+                           [(time + shift, state) for time, state in recording.activations])
+    return timeline
+
+
+def plot_robots(recordings: Mapping[str, Recording], output_path: str) -> str:
+    """The robots' motion over time in one PNG, a panel per robot on a shared time axis: every animated joint's
+    offset from its centre, and that robot's own enables and disables. Returns the plot's absolute path."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as pyplot
+
+    timeline = robots_timeline(recordings)
+    figure, axes = pyplot.subplots(len(timeline), 1, figsize=(12.0, 3.0 * len(timeline) + 1.0), sharex=True,
+                                   squeeze=False)
+    for axis, (robot, (times, offsets, activations)) in zip(axes[:, 0], sorted(timeline.items())):
+        for column in range(offsets.shape[1] if offsets.ndim == 2 else 0):
+            if numpy.any(numpy.isfinite(offsets[:, column])):
+                axis.plot(times, offsets[:, column], linewidth=0.8)
+        for time, state in activations:
+            axis.axvline(time, color="tab:green" if state == ENABLED else "tab:red",
+                         linestyle="-" if state == ENABLED else "--", linewidth=1.6)
+        axis.set_ylabel("%s\noffset from centre (rad)" % robot)
+    axes[-1][0].set_xlabel("time since the first enable (s); green: enabled, red dashed: disabled")
+    figure.suptitle("animateBehaviour on %d robots: every joint, each robot with its own enable and disable"
+                    % len(timeline), fontsize=13)
+    figure.tight_layout(rect=(0, 0, 1, 0.95))
+    output_path = os.path.abspath(output_path)
+    os.makedirs(os.path.dirname(output_path), exist_ok=True)
+    figure.savefig(output_path, dpi=100)
+    pyplot.close(figure)
+    return output_path
+
+
 PLOT_COMMAND_USAGE = """plotAnimation: plots a recorded animateBehaviour run (joints, their bands, base heading).
 
 rosrun cssr_system plotAnimation.py RECORDING [--log LOGFILE] [--config FILE] [-o OUT.png]
+rosrun cssr_system plotAnimation.py RECORDING RECORDING ... -o OUT.png   (robots side by side, README "Several robots")
 
 RECORDING is a recording file (format: cssr_system.recording.recording), e.g. the demo's
 <workspace>/demo/animation.json. The allowed band of each joint comes from the node's log file when
@@ -251,12 +299,16 @@ The plot goes to OUT.png (default: RECORDING with the extension .png); its path 
 
 def main(argv):
     parser = argparse.ArgumentParser(prog="plotAnimation.py", description=PLOT_COMMAND_USAGE.split("\n\n")[0])
-    parser.add_argument("recording", help="recording file (.json) of a run")
+    parser.add_argument("recording", nargs="+", help="recording file (.json) of a run; several: one per robot, "
+                        "plotted on one time axis (named after their folders)")
     parser.add_argument("--log", help="the node's log file of that run: bands from its goal_sent entries")
     parser.add_argument("--config", help="configuration file for the bands when neither --log nor the "
                                          "recording has them (default: the package's)")
     parser.add_argument("-o", "--output", help="PNG to write (default: RECORDING with .png)")
     arguments = parser.parse_args([argument for argument in argv if not argument.startswith("__")])
+    if len(arguments.recording) > 1:
+        return plot_robots_command(arguments.recording, arguments.output)
+    arguments.recording = arguments.recording[0]
     try:
         recording = read_recording(arguments.recording)
         if arguments.log:
@@ -276,6 +328,19 @@ def main(argv):
             recording = recording._replace(bands=bands, heading_bound=heading_bound)
         output = arguments.output or os.path.splitext(arguments.recording)[0] + ".png"
         print(plot_recording(recording, output))
+    except (OSError, ValueError) as error:
+        print("plotAnimation: error: %s" % error, file=sys.stderr)
+        return 1
+    return 0
+
+
+def plot_robots_command(paths: Sequence[str], output: Optional[str]) -> int:
+    """plotAnimation with several recordings: each robot named after its recording's folder (robot1/animation.json)."""
+    try:
+        recordings = {os.path.basename(os.path.dirname(os.path.abspath(path))) or path: read_recording(path)
+                      for path in paths}
+        print(plot_robots(recordings, output or os.path.join(os.path.dirname(os.path.abspath(paths[0])), "..",
+                                                             "robots.png")))
     except (OSError, ValueError) as error:
         print("plotAnimation: error: %s" % error, file=sys.stderr)
         return 1

@@ -38,10 +38,11 @@ LOG_MARGIN = 1.0  # s: log entries this long before the recorder started still b
 say = functools.partial(console.say, NODE_NAME)
 
 
-def default_output_dir() -> str:
-    """``$ROS_HOME/animateBehaviourDemo`` (ROS_HOME defaults to ~/.ros on both ROS)."""
+def default_output_dir(namespace: str = "/") -> str:
+    """``$ROS_HOME/animateBehaviourDemo`` (ROS_HOME defaults to ~/.ros on both ROS), and the recorder's namespace
+    below it (``.../robot1``) where it is not the root: two robots' recordings never share a file."""
     ros_home = os.environ.get("ROS_HOME") or os.path.join(os.path.expanduser("~"), ".ros")
-    return os.path.join(ros_home, DEFAULT_FOLDER)
+    return os.path.join(ros_home, DEFAULT_FOLDER, *filter(None, namespace.split("/")))
 
 
 class RunRecorder:

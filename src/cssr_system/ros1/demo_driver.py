@@ -68,9 +68,10 @@ class DemoDriver(DemoRun):
     """The run (`demo_run`) on ROS 1."""
 
     def __init__(self, node: str, duration: float, tail: float, gesture: bool, recorder: str, startup_timeout: float,
-                 setting: Optional[RunSetting], heading_topic: str, interaction: bool = False) -> None:
+                 setting: Optional[RunSetting], heading_topic: str, interaction: bool = False,
+                 delay: float = 0.0) -> None:
         super().__init__(duration, tail, startup_timeout, setting.log_file if setting is not None else None,
-                         gesture, interaction)
+                         gesture, interaction, delay)
         self.node = node  # the resolved name of the node driven: its service and status are under it
         self.service = contract.interface_of(node, contract.SET_ACTIVATION)
         self.recorder = recorder
@@ -144,10 +145,12 @@ def main() -> int:
     rospy.init_node(NODE_NAME, disable_signals=True)
     duration = float(rospy.get_param("~duration", 30.0))
     tail = float(rospy.get_param("~tail", 3.0))
+    delay = float(rospy.get_param("~delay", 0.0))
     outcome_file = str(rospy.get_param("~outcome_file", ""))
-    if not duration > 0.0 or tail < 0.0:
-        say("error: ~duration must be positive and ~tail not negative (got %r and %r)" % (duration, tail))
-        write_outcome(outcome_file, EXIT_FAILED, "invalid ~duration or ~tail")
+    if not duration > 0.0 or tail < 0.0 or delay < 0.0:
+        say("error: ~duration must be positive, ~tail and ~delay not negative (got %r, %r and %r)"
+            % (duration, tail, delay))
+        write_outcome(outcome_file, EXIT_FAILED, "invalid ~duration, ~tail or ~delay")
         return EXIT_FAILED
     # Relative names: the driver, the node and the recorder share a namespace (README: "Several robots").
     node = rospy.resolve_name(str(rospy.get_param("~node", contract.NODE_NAME)))
@@ -160,7 +163,7 @@ def main() -> int:
     driver = DemoDriver(node, duration, tail, bool(rospy.get_param("~gesture", False)),
                         rospy.resolve_name(str(rospy.get_param("~recorder", RECORDER_NAME))),
                         float(rospy.get_param("~startup_timeout", 40.0)), setting, heading_topic,
-                        bool(rospy.get_param("~interaction", False)))
+                        bool(rospy.get_param("~interaction", False)), delay)
     signal.signal(signal.SIGINT, driver.on_signal)
     signal.signal(signal.SIGTERM, driver.on_signal)
     rospy.core.add_preshutdown_hook(driver.on_ros_shutdown)

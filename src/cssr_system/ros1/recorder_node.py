@@ -95,7 +95,7 @@ def node_parameters(node: str) -> Dict[str, Any]:
 
 def main() -> int:
     rospy.init_node(NODE_NAME)
-    output_dir = os.path.abspath(rospy.get_param("~output_dir", default_output_dir()))
+    output_dir = os.path.abspath(rospy.get_param("~output_dir", default_output_dir(rospy.get_namespace())))
     node = rospy.resolve_name(str(rospy.get_param("~node", contract.NODE_NAME)))  # relative: in our namespace
     parameters = node_parameters(node)
     try:

@@ -53,8 +53,9 @@ class DemoDriver(DemoRun):
     """The run (`demo_run`) on ROS 2."""
 
     def __init__(self, node: Node, target: str, duration: float, tail: float, recorder: str, startup_timeout: float,
-                 log_file: Optional[str], heading_topic: str, interaction: bool) -> None:
-        super().__init__(duration, tail, startup_timeout, log_file, gesture=False, interaction=interaction)
+                 log_file: Optional[str], heading_topic: str, interaction: bool, delay: float = 0.0) -> None:
+        super().__init__(duration, tail, startup_timeout, log_file, gesture=False, interaction=interaction,
+                         delay=delay)
         self.node, self.target, self.recorder = node, target, recorder  # full names of the node and the recorder
         self.service = contract.interface_of(target, contract.SET_ACTIVATION)
         self._activation = node.create_client(SetActivation, self.service)
@@ -128,16 +129,17 @@ def make_driver(node: Node) -> DemoDriver:
     # Dynamic typing: `duration:=6` is an integer, and the check below says what is wrong, not rclpy.
     dynamic = ParameterDescriptor(dynamic_typing=True)
     value = {name: node.declare_parameter(name, default, dynamic).value for name, default in (
-        ("duration", 30.0), ("tail", 3.0), ("platform", "robot"), ("interaction", False),
+        ("duration", 30.0), ("tail", 3.0), ("delay", 0.0), ("platform", "robot"), ("interaction", False),
         ("node", contract.NODE_NAME), ("recorder", RECORDER_NAME), ("log_file", ""), ("startup_timeout", 40.0))}
-    duration, tail = number(value["duration"], "duration"), number(value["tail"], "tail")
-    if not duration > 0.0 or tail < 0.0:
-        raise ValueError("duration must be positive and tail not negative (got %r and %r)" % (duration, tail))
+    duration, tail, delay = (number(value[name], name) for name in ("duration", "tail", "delay"))
+    if not duration > 0.0 or tail < 0.0 or delay < 0.0:
+        raise ValueError("duration must be positive, tail and delay not negative (got %r, %r and %r)"
+                         % (duration, tail, delay))
     heading_topic = odometry_topic(PLATFORMS.get(str(value["platform"]), PLATFORMS["robot"]))
     # Relative names: the driver, the node and the recorder share a namespace (README: "Several robots").
     target, recorder = (node.resolve_topic_name(str(value[name]), only_expand=True) for name in ("node", "recorder"))
     return DemoDriver(node, target, duration, tail, recorder, number(value["startup_timeout"], "startup_timeout"),
-                      str(value["log_file"]) or None, heading_topic, value["interaction"] is True)
+                      str(value["log_file"]) or None, heading_topic, value["interaction"] is True, delay)
 
 
 def run(node: Node, outcome_file: str, early_stops: List[str]) -> int:

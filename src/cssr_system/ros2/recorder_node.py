@@ -149,7 +149,8 @@ class MessageRecorder(RunRecorder):
 
 def record(node: Node, stop: threading.Event) -> int:
     """Record on `node` until `stop` is set, then write the recording and its plot: 0 when written."""
-    output_dir = os.path.abspath(node.declare_parameter("output_dir", "").value or default_output_dir())
+    output_dir = os.path.abspath(node.declare_parameter("output_dir", "").value
+                                 or default_output_dir(node.get_namespace()))
     # Relative: the node recorded is in the recorder's namespace (README: "Several robots").
     target = node.resolve_topic_name(node.declare_parameter("node", contract.NODE_NAME).value, only_expand=True)
     recorder = MessageRecorder(node, target, node.declare_parameter("log_file", "").value,
