@@ -26,14 +26,16 @@ def test_changes_are_listed_as_the_configuration_file_writes_them():
 
 
 def test_an_animate_goal_becomes_overrides():
-    assert goal_overrides(["arms"], False, "breathing", 0.5, 0.0) == {
+    assert goal_overrides(["arms"], "breathing", 0.5, 0.0) == {
         "moveArms": True, "moveHands": False, "moveLeg": False, "turnBase": False, "intensity": 0.5,
         "motionStyle": "breathing"}
-    every = goal_overrides([], True, "", 1.0, 10.0)
-    assert every["moveArms"] and every["moveHands"] and every["moveLeg"] and every["turnBase"]
+    assert goal_overrides(["base", "leg"], "", 0.5, 0.0)["turnBase"], "the base is a part like the others"
+    every = goal_overrides([], "", 1.0, 10.0)
+    assert every["moveArms"] and every["moveHands"] and every["moveLeg"] and every["turnBase"], \
+        "no part named: every part, the base included"
     assert every["breathsPerMinute"] == 10.0 and "motionStyle" not in every, "empty style and tempo 0 keep them"
-    with pytest.raises(ValueError, match="unknown part 'head'"):
-        goal_overrides(["arms", "head"], True, "", 1.0, 0.0)
+    with pytest.raises(ValueError, match="unknown part 'head'; expected any of: arms, hands, leg, base"):
+        goal_overrides(["arms", "head"], "", 1.0, 0.0)
 
 
 def test_a_session_goes_home_before_its_duration_ends_and_succeeds_once_the_parts_are_home():

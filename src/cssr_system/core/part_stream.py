@@ -24,9 +24,9 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.console import console
 from cssr_system.animate_behaviour.contract import NODE_NAME, PURPOSE_ANIMATE, PURPOSE_HOME
 from cssr_system.core.events import GoalDone
-from cssr_system.core.foreign_motion import DEFAULT_QUIET_TIME
-from cssr_system.core.goals import (ABORTED, GOAL_TOLERANCE_VIOLATED, SUCCEEDED, OutgoingGoal,
-                                    RunningGoal)
+from cssr_system.core.foreign_motion import COMMAND, DEFAULT_QUIET_TIME, GOAL
+from cssr_system.core.goals import (ABORTED, GOAL_TOLERANCE_VIOLATED, LOST, PREEMPTED, RUNNING_AT_EXIT, SUCCEEDED,
+                                    OutgoingGoal, RunningGoal)
 from cssr_system.core.motion_stream import PartMotionStream, StreamState
 from cssr_system.motion.planners import HomePlanner, Planner, settled
 from cssr_system.motion.trajectory_timing import TimedTrajectory
@@ -132,9 +132,11 @@ class PartStream(PartMotionStream):
             return  # reported already
         state_name = event.state
         reached = self._reached_its_end(sent, event)
-        self._log.write(contract.GOAL_FINISHED, part=self.part, action=self.action, purpose=sent.purpose,
-                        goal=event.goal_number, state=state_name, error_code=event.error_code,
-                        error_string=event.error_string, reached=reached)
+        if sent.replaced_by and state_name in (ABORTED, PREEMPTED):
+            # Another node's goal replaced ours (joint_trajectory_controller on ROS 2 aborts the goal it replaces):
+            # no failure, and the part yields to that node.
+            state_name = PREEMPTED
+        self._log_finished(event.goal_number, sent, state_name, event.error_code, event.error_string, reached)
         if not self.is_current(event.goal_number) or self.state == IDLE:
             return  # a goal we replaced or cancelled: its end changes nothing
         if reached or sent.purpose == PURPOSE_HOME:
@@ -142,6 +144,20 @@ class PartStream(PartMotionStream):
             self._finish_goal("goal %d %s" % (event.goal_number, state_name))
         else:
             self._retry_later(sent, event.goal_number, state_name, event.error_string)
+
+    def _log_finished(self, number: int, sent: RunningGoal, state_name: str, error_code: Optional[int],
+                      error_string: str, reached: bool) -> None:
+        """The goal's one goal_finished line (`replaced_by` when another node's goal or trajectory replaced it)."""
+        extra = {"replaced_by": sent.replaced_by} if sent.replaced_by and state_name == PREEMPTED else {}
+        self._log.write(contract.GOAL_FINISHED, part=self.part, action=self.action, purpose=sent.purpose,
+                        goal=number, state=state_name, error_code=error_code, error_string=error_string,
+                        reached=reached, **extra)
+
+    def finish_at_exit(self) -> None:
+        """The node exits: each goal whose end has not been reported gets its one goal_finished line now."""
+        for number, sent in self._unfinished.items():
+            self._log_finished(number, sent, RUNNING_AT_EXIT, None, "still running when the node exited", False)
+        self._unfinished.clear()
 
     def _reached_its_end(self, sent: RunningGoal, event: GoalDone) -> bool:
         """The goal did what it was sent for: SUCCEEDED, or ABORTED only for its end state (GOAL_TOLERANCE_VIOLATED:
@@ -203,6 +219,12 @@ class PartStream(PartMotionStream):
     def _abandon_home(self) -> None:
         self._sent = None
         self._animated = False
+
+    def foreign_motion(self, key: str, caller: str, kind: str, last_point_at: Optional[float]) -> None:
+        """Another node's goal or trajectory on the controller replaces our goal there (a setAngles call does not)."""
+        if kind in (GOAL, COMMAND) and self._sent is not None and self.state in (ANIMATING, WAITING, HOMING):
+            self._sent.replaced_by = caller
+        super().foreign_motion(key, caller, kind, last_point_at)
 
     def _yield(self, caller: str, why: str) -> None:
         self._sent = None  # the controller runs the other node's motion now; ours is kept only for its result
@@ -317,7 +339,9 @@ class PartStream(PartMotionStream):
         self._sent = RunningGoal(number, outgoing.purpose, handle, outgoing)
         self._unfinished[number] = self._sent
         while len(self._unfinished) > MAX_UNFINISHED_GOALS:  # a controller that never answers
-            self._unfinished.popitem(last=False)
+            dropped, lost = self._unfinished.popitem(last=False)
+            self._log_finished(dropped, lost, LOST, None, "no result after %d newer goals" % MAX_UNFINISHED_GOALS,
+                               False)
         self._log_sent(number, outgoing)
         return outgoing.timed
 
