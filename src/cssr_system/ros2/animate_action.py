@@ -23,6 +23,11 @@ from cssr_system.ros2.rclpy_compat import other_action_client
 from cssr_system.ros2.status import part_statuses
 
 
+def goal_id(handle) -> bytes:
+    """A goal's key (rclpy's goal handles are not hashable in every release)."""
+    return bytes(handle.goal_id.uuid)
+
+
 class AnimateActionServer:
     """The rclpy server of the animate action. `configure(overrides)` gives (configuration file, configuration,
     topics) with the goal's settings on top of the node's, or raises ConfigurationError; `post` puts an event on
@@ -34,7 +39,7 @@ class AnimateActionServer:
         self._configure = configure
         self._post = post
         self._report_error = report_error
-        self._results: Dict[object, Future] = {}  # by goal handle: its execute callback awaits it
+        self._results: Dict[bytes, Future] = {}  # by goal id: its execute callback awaits it
         self._calls: "queue.Queue" = queue.Queue()  # the supervisor's calls, for the executor's thread
         self._wake = node.create_guard_condition(self._run_calls)
         self._server = None
@@ -65,7 +70,7 @@ class AnimateActionServer:
         except GoalRefused as error:
             handle.abort()
             return Animate.Result(reason="rejected: %s" % error)
-        result = self._results[handle] = Future()
+        result = self._results[goal_id(handle)] = Future()
         self._post(AnimateGoal(handle, config_file, config, topics, duration,
                                other_action_client(self._node, self.name)))
         if handle.is_cancel_requested:  # the cancel came before the goal reached the supervisor
@@ -102,7 +107,7 @@ class AnimateActionServer:
         self._call(lambda: handle.publish_feedback(message) if handle.is_active else None)
 
     def _end(self, handle, set_state: Callable[[], None], animated: float, reason: str) -> None:
-        result = self._results.pop(handle, None)
+        result = self._results.pop(goal_id(handle), None)
         if result is None:
             return  # ended already
         set_state()
