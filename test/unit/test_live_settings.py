@@ -5,7 +5,7 @@ from conftest import default_configuration
 
 from cssr_system.animate_behaviour.live_settings import (changed_settings, goal_overrides, moving_parts,
                                                          setting_overrides, setting_values)
-from cssr_system.core.session import FEEDBACK_PERIOD, HOME_LEAD, LONGEST_HOMING, Session
+from cssr_system.core.session import FEEDBACK_PERIOD, HOME_LEAD, LONGEST_HOMING, Session, checked_goal
 
 
 def test_dynamic_reconfigures_names_map_onto_the_configuration_keys_and_back():
@@ -55,3 +55,22 @@ def test_a_session_without_a_duration_runs_until_cancelled_and_gives_feedback_on
     assert not session.feedback_due(FEEDBACK_PERIOD - 0.01)
     assert session.feedback_due(FEEDBACK_PERIOD) and not session.feedback_due(FEEDBACK_PERIOD + 0.5)
     assert session.feedback_due(2 * FEEDBACK_PERIOD)
+
+
+class Goal:
+    """An animate goal's fields, as either front-end's message has them."""
+
+    def __init__(self, parts=(), style="", intensity=1.0, tempo=0.0, duration=0.0):
+        self.parts, self.style, self.intensity, self.tempo, self.duration = parts, style, intensity, tempo, duration
+
+
+def test_a_goal_is_checked_before_it_is_accepted():
+    asked = []
+    (configured, duration) = checked_goal(Goal(parts=["base"], duration=3.0), lambda overrides: asked.append(
+        overrides) or "configuration")
+    assert (configured, duration) == ("configuration", 3.0)
+    assert asked[0]["turnBase"] and not asked[0]["moveArms"]
+    with pytest.raises(ValueError, match="duration -1.0: expected a number of seconds >= 0"):
+        checked_goal(Goal(duration=-1.0), lambda overrides: "configuration")
+    with pytest.raises(ValueError, match="unknown part 'head'"):
+        checked_goal(Goal(parts=["head"]), lambda overrides: "configuration")
