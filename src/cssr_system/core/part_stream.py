@@ -34,7 +34,9 @@ from cssr_system.motion.waypoints import PartMotion
 from cssr_system.pepper.joint_table import PARTS
 
 HOME_MAX_DURATION = 2.0  # s; longer returns are reported (the speed cap wins over this bound)
-RETRY_DELAY = 2.0  # s before a part tries again after a failed goal (rejected, aborted, preempted by an unseen node)
+# s before a part tries again after a failed goal (rejected, aborted), or after a goal that another client's replaced
+# when that client's goal does not show on the action's status.
+RETRY_DELAY = 2.0
 MAX_RETRY_DELAY = 30.0  # s: the back-off doubles the delay after each failure in a row, up to this
 HEALTHY_RUN = 5.0  # s: a goal that ran this long before failing starts the back-off afresh
 MAX_UNFINISHED_GOALS = 16  # handles kept for goals whose end has not been reported yet
@@ -130,20 +132,32 @@ class PartStream(PartMotionStream):
         sent = self._unfinished.pop(event.goal_number, None)
         if sent is None:
             return  # reported already
-        state_name = event.state
+        current = self.is_current(event.goal_number) and self.state != IDLE
+        state_name = self._final_state(sent, event.state, current)
         reached = self._reached_its_end(sent, event)
-        if sent.replaced_by and state_name in (ABORTED, PREEMPTED):
-            # Another node's goal replaced ours (joint_trajectory_controller on ROS 2 aborts the goal it replaces):
-            # no failure, and the part yields to that node.
-            state_name = PREEMPTED
         self._log_finished(event.goal_number, sent, state_name, event.error_code, event.error_string, reached)
-        if not self.is_current(event.goal_number) or self.state == IDLE:
+        if not current:
             return  # a goal we replaced or cancelled: its end changes nothing
         if reached or sent.purpose == PURPOSE_HOME:
             self._failures = 0
             self._finish_goal("goal %d %s" % (event.goal_number, state_name))
+        elif sent.replaced_by:  # no failure: the other client's goal, once seen, makes the part yield
+            self._sent = None
+            self.retry_at = self._clock() + RETRY_DELAY
+            self.transition_to(WAITING, "goal %d replaced by %s" % (event.goal_number, sent.replaced_by))
         else:
             self._retry_later(sent, event.goal_number, state_name, event.error_string)
+
+    def _final_state(self, sent: RunningGoal, state_name: str, current: bool) -> str:
+        """The log's final state. Another node's goal that replaced ours makes it PREEMPTED with `replaced_by`:
+        joint_trajectory_controller on ROS 2 may abort the goal it replaces; and a goal of ours still current
+        (none of ours replaced it) that ends PREEMPTED was replaced by another client, whose goal may show on the
+        action's status only after our result."""
+        if sent.replaced_by and state_name in (ABORTED, PREEMPTED):
+            return PREEMPTED
+        if state_name == PREEMPTED and current:
+            sent.replaced_by = "another client of %s" % self.action
+        return state_name
 
     def _log_finished(self, number: int, sent: RunningGoal, state_name: str, error_code: Optional[int],
                       error_string: str, reached: bool) -> None:
