@@ -27,7 +27,9 @@ from control_msgs.msg import FollowJointTrajectoryAction, FollowJointTrajectoryR
 from sensor_msgs.msg import JointState
 from wire_recorder import WireRecorder, wait_until
 
+from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import REPLY_SUCCESS, SERVICE_PATH
+from cssr_system.animate_behaviour.event_log import read_log
 from cssr_system.animate_behaviour.topics import load_topic_map
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.srv import setActivation
@@ -163,6 +165,16 @@ class FaultsTest(unittest.TestCase):
         self.assertLessEqual(seconds, EXIT_BOUND)
         self.assertNotIn("Traceback", node.text())
 
+    def assert_one_final_state_per_goal(self, log_file):
+        """Every goal_sent has exactly one goal_finished; the returns home still running at the exit say so."""
+        entries = read_log(log_file)
+        sent = sorted((entry.fields["part"], entry.fields["goal"]) for entry in entries
+                      if entry.event == contract.GOAL_SENT)
+        finished = [entry.fields for entry in entries if entry.event == contract.GOAL_FINISHED]
+        self.assertTrue(sent)
+        self.assertEqual(sorted((fields["part"], fields["goal"]) for fields in finished), sent)
+        self.assertIn("RUNNING_AT_EXIT", {fields["state"] for fields in finished if fields["purpose"] == "home"})
+
     # -- the log file ----------------------------------------------------------------------------------
     def test_a_log_file_on_a_full_disk(self):
         node = self.start("_logFile:=/dev/full")
@@ -264,6 +276,7 @@ class FaultsTest(unittest.TestCase):
         time.sleep(1.0)
         self.assertEqual(node.call("disabled").success, REPLY_SUCCESS)
         self.assert_clean_exit(node, signal.SIGTERM)  # while the parts return to their centre
+        self.assert_one_final_state_per_goal(os.path.join(self.case_folder, "node.log"))
         node = self.start()
         enabling = threading.Thread(target=lambda: node.call("enabled"))
         enabling.start()

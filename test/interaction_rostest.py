@@ -152,7 +152,7 @@ class InteractionTest(unittest.TestCase):
 
     def test_a_goal_with_a_duration_succeeds_on_time_with_every_part_home(self):
         started = time.monotonic()
-        self.action.send_goal(AnimateGoal(intensity=0.6, base_rotation=False, duration=5.0))
+        self.action.send_goal(AnimateGoal(intensity=0.6, parts=["arms", "hands", "leg"], duration=5.0))
         self.assertTrue(self.action.wait_for_result(rospy.Duration(15)))
         ended = time.monotonic() - started
         self.assertEqual(self.action.get_state(), GoalStatus.SUCCEEDED)
@@ -164,11 +164,11 @@ class InteractionTest(unittest.TestCase):
     def test_a_second_goal_preempts_the_first_without_a_stop(self):
         first = actionlib.SimpleActionClient(NODE + "/animate", AnimateAction)
         self.assertTrue(first.wait_for_server(rospy.Duration(10)))
-        first.send_goal(AnimateGoal(intensity=1.0, base_rotation=True))
+        first.send_goal(AnimateGoal(intensity=1.0))
         time.sleep(SETTLE)
         switched = time.monotonic()
         feedback = []
-        self.action.send_goal(AnimateGoal(intensity=0.5, base_rotation=False, style="random"),
+        self.action.send_goal(AnimateGoal(intensity=0.5, parts=["arms", "hands", "leg"], style="random"),
                               feedback_cb=feedback.append)
         self.assertTrue(first.wait_for_result(rospy.Duration(5)))
         self.assertEqual(first.get_state(), GoalStatus.PREEMPTED)
@@ -184,8 +184,31 @@ class InteractionTest(unittest.TestCase):
         self.assertEqual({part.part for part in feedback[-1].parts}, set(PARTS_HERE) | {"Wheels"})
         self.assertGreater(feedback[-1].elapsed, 1.0)
 
+    def test_a_goal_that_names_no_part_moves_every_part_the_base_too(self):
+        since = datetime.datetime.now()
+        self.action.send_goal(AnimateGoal(intensity=0.7))
+        time.sleep(1.0)
+        with self.lock:
+            status = self.statuses[-1][1]
+        self.assertTrue(status.enabled)
+        self.assertIn("base", status.moving_parts, "a goal that names no part moves the base too")
+        self.assertEqual([entry for entry in read_log(rospy.get_param(NODE + "/logFile"), since=since)
+                          if entry.event == contract.SETTING_CHANGED and entry.fields["key"] == "turnBase"], [])
+        self.action.cancel_goal()
+        self.assertTrue(self.action.wait_for_result(rospy.Duration(5)))
+
+    def test_a_goal_naming_an_unknown_part_is_rejected_with_the_reason(self):
+        self.action.send_goal(AnimateGoal(intensity=0.5, parts=["head"]))
+        self.assertTrue(self.action.wait_for_result(rospy.Duration(5)))
+        self.assertEqual(self.action.get_state(), GoalStatus.REJECTED)
+        self.assertIn("unknown part 'head'", self.action.get_result().reason)
+
+    def test_no_deprecated_actionlib_parameter(self):
+        self.assertFalse(rospy.has_param(NODE + "/animate/status_frequency"), "actionlib warns about it")
+        self.assertEqual(rospy.get_param(NODE + "/actionlib_status_frequency"), 1.0)
+
     def test_cancelling_stops_the_motion(self):
-        self.action.send_goal(AnimateGoal(intensity=1.0, base_rotation=True))
+        self.action.send_goal(AnimateGoal(intensity=1.0))
         time.sleep(2.0)
         self.action.cancel_goal()
         self.assertTrue(self.action.wait_for_result(rospy.Duration(5)))

@@ -1,7 +1,7 @@
 """animateBehaviour on ROS 2 (cssr_system.ros2.animate_behaviour_main) beside the ROS 2 simulated Pepper, both in
 processes of their own, driven by real rclpy clients: the replies, the goals and their bands on both backends
 (FollowJointTrajectory and /joint_angles), the stop, yielding to another node's goal or setAngles calls, a live
-parameter change, and a bad configuration.
+parameter change, a bad configuration, the animate action, and a log with one final state for every goal sent.
 
 Run inside the ROS 2 environment: bash tools/ros2/run.sh python3 -m pytest test/ros2 -q
 """
@@ -16,7 +16,9 @@ rclpy = pytest.importorskip("rclpy")
 pytest.importorskip("cssr_system_interfaces.srv")
 
 from builtin_interfaces.msg import Duration  # noqa: E402 (after the skips)
+from action_msgs.msg import GoalStatus  # noqa: E402
 from control_msgs.action import FollowJointTrajectory  # noqa: E402
+from cssr_system_interfaces.action import Animate  # noqa: E402
 from cssr_system_interfaces.msg import AnimateBehaviourStatus  # noqa: E402
 from cssr_system_interfaces.srv import SetActivation  # noqa: E402
 from naoqi_bridge_msgs.msg import JointAnglesWithSpeed  # noqa: E402
@@ -47,6 +49,7 @@ STOP_BOUND = 0.5  # s from the disable request to each part's stop (the ROS 1 te
 FIRST_GOAL_BOUND = 1.0  # s from the enable request to each part's first goal (the ROS 1 tests' bound)
 SIMULATOR_PARTS = {"RArm", "LArm", "Leg"}  # the simulator platform has no hand controllers
 ARM = PARTS["RArm"].joints
+TEST_CLIENT = "/ros2_test_client"  # the test's node, as the graph names it
 
 
 def start(module: str, *parameters: str, domain: int = DOMAIN) -> subprocess.Popen:
@@ -222,6 +225,12 @@ def test_another_clients_goal_is_yielded_to_and_resumed_from(trajectory_run):
     assert wait_until(lambda: run.entries(contract.PART_RESUMED, since), 1.0)
     (resumed,) = run.entries(contract.PART_RESUMED, since)
     assert resumed.fields["part"] == "RArm" and resumed.fields["seconds"] >= 1.0
+    (yielded,) = run.entries(contract.PART_YIELDED, since)
+    assert yielded.fields["caller"] == TEST_CLIENT, "the graph's one other client of that action is named"
+    replaced = [entry.fields for entry in run.entries(contract.GOAL_FINISHED, since)
+                if entry.fields["part"] == "RArm" and entry.fields["state"] != "SUCCEEDED"]
+    assert replaced and all(fields["state"] == "PREEMPTED" and fields["replaced_by"] == TEST_CLIENT
+                            for fields in replaced), replaced
     client.node.destroy_client(gesture)
     assert client.activate("disabled") == contract.REPLY_SUCCESS
 
@@ -286,6 +295,7 @@ def test_sigint_while_animating_returns_every_part_home_before_the_node_exits(tm
         assert wait_until(lambda: all(run.client.part_state(part) == "animating" for part in SIMULATOR_PARTS), 3.0)
         time.sleep(1.0)
         assert stop(run.node) == 0
+        assert_one_final_state_per_goal(run)
         time.sleep(2.5)  # the return home takes at most 2 s
         final = dict(zip(run.client.joint_states[-1].name, run.client.joint_states[-1].position))
         for part in SIMULATOR_PARTS:
@@ -294,3 +304,97 @@ def test_sigint_while_animating_returns_every_part_home_before_the_node_exits(tm
     finally:
         run.client.close()
         stop(run.simulator)
+
+
+def assert_one_final_state_per_goal(run: Run) -> None:
+    """Every goal_sent has exactly one goal_finished; the goals still running at the exit say so."""
+    sent = sorted((entry.fields["part"], entry.fields["goal"]) for entry in run.entries(contract.GOAL_SENT))
+    finished = sorted((entry.fields["part"], entry.fields["goal"]) for entry in run.entries(contract.GOAL_FINISHED))
+    assert sent and finished == sent
+    at_exit = [entry.fields for entry in run.entries(contract.GOAL_FINISHED) if entry.fields["state"] ==
+               "RUNNING_AT_EXIT"]
+    assert {fields["purpose"] for fields in at_exit} >= {"home"}, "the returns home outlast the node"
+
+
+def animate_goal(**fields) -> Animate.Goal:
+    goal = Animate.Goal()
+    for name, value in fields.items():
+        setattr(goal, name, value)
+    return goal
+
+
+class AnimateClient:
+    """An animate action client of the test node: each goal's handle, feedback and result."""
+
+    def __init__(self, client: Client) -> None:
+        self.node = client.node
+        self.action = ActionClient(client.node, Animate, "/animateBehaviour/animate")
+        assert self.action.wait_for_server(timeout_sec=START_TIMEOUT)
+        self.feedback = []
+
+    def send(self, goal: Animate.Goal):
+        future = self.action.send_goal_async(goal, feedback_callback=self.feedback.append)
+        assert wait_until(future.done, 5.0), "no answer to the goal"
+        return future.result()
+
+    @staticmethod
+    def result(handle, timeout: float = 10.0):
+        future = handle.get_result_async()
+        assert wait_until(future.done, timeout), "no result"
+        return future.result()
+
+    def close(self) -> None:
+        self.node.destroy_client(self.action)
+
+
+def test_an_animate_goal_with_a_duration_succeeds_with_every_part_home_and_the_base_kept_on(trajectory_run):
+    run, client = trajectory_run, trajectory_run.client
+    animate = AnimateClient(client)
+    since = time.time()
+    handle = animate.send(animate_goal(intensity=0.6, duration=4.0))
+    assert handle.accepted
+    assert wait_until(lambda: client.status.enabled, 2.0)
+    assert "base" in client.status.moving_parts, "a goal that names no part moves every part, the base too"
+    response = animate.result(handle)
+    assert (response.status, response.result.reason) == (GoalStatus.STATUS_SUCCEEDED, "duration elapsed")
+    assert response.result.animated == pytest.approx(4.0, abs=0.5)
+    assert all(client.part_state(part) == "idle" for part in SIMULATOR_PARTS), "every part home"
+    assert len(animate.feedback) >= 3, "feedback once a second"
+    assert {row.part for row in animate.feedback[-1].feedback.parts} >= SIMULATOR_PARTS
+    assert [entry.fields for entry in run.entries(contract.SETTING_CHANGED, since)
+            if entry.fields["key"] == "turnBase"] == [], "the base was never mentioned: it stays on"
+    animate.close()
+
+
+def test_a_new_goal_replaces_the_last_and_a_cancel_stops_the_robot(trajectory_run):
+    client = trajectory_run.client
+    animate = AnimateClient(client)
+    first = animate.send(animate_goal(intensity=1.0))
+    assert wait_until(lambda: client.part_state("RArm") == "animating", 3.0)
+    second = animate.send(animate_goal(intensity=0.5, parts=["arms", "leg"]))
+    replaced = animate.result(first)
+    assert (replaced.status, replaced.result.reason) == (GoalStatus.STATUS_ABORTED, "replaced")
+    assert wait_until(lambda: client.status.intensity == pytest.approx(0.5), 2.0), "the last command wins"
+    assert sorted(client.status.moving_parts) == ["arms", "leg"]
+    time.sleep(1.5)
+    assert client.part_state("RArm") == "animating", "the robot did not stop at the switch"
+    second.cancel_goal_async()
+    cancelled = animate.result(second)
+    assert (cancelled.status, cancelled.result.reason) == (GoalStatus.STATUS_CANCELED, "cancelled")
+    assert wait_until(lambda: not client.status.enabled, 1.0)
+    third = animate.send(animate_goal(intensity=0.5))
+    assert wait_until(lambda: client.status.enabled, 2.0)
+    assert client.activate("disabled") == contract.REPLY_SUCCESS
+    disabled = animate.result(third)
+    assert (disabled.status, disabled.result.reason) == (GoalStatus.STATUS_ABORTED, "disabled")
+    animate.close()
+
+
+def test_an_animate_goal_with_a_bad_value_is_rejected_and_changes_nothing(trajectory_run):
+    run, client = trajectory_run, trajectory_run.client
+    animate = AnimateClient(client)
+    for goal in (animate_goal(intensity=1.5), animate_goal(intensity=0.5, parts=["head"]),
+                 animate_goal(intensity=0.5, duration=-1.0)):
+        assert not animate.send(goal).accepted, goal
+    assert not client.status.enabled and run.node.poll() is None
+    animate.close()

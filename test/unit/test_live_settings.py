@@ -5,7 +5,7 @@ from conftest import default_configuration
 
 from cssr_system.animate_behaviour.live_settings import (changed_settings, goal_overrides, moving_parts,
                                                          setting_overrides, setting_values)
-from cssr_system.core.session import FEEDBACK_PERIOD, HOME_LEAD, LONGEST_HOMING, Session
+from cssr_system.core.session import FEEDBACK_PERIOD, HOME_LEAD, LONGEST_HOMING, Session, checked_goal
 
 
 def test_dynamic_reconfigures_names_map_onto_the_configuration_keys_and_back():
@@ -26,14 +26,16 @@ def test_changes_are_listed_as_the_configuration_file_writes_them():
 
 
 def test_an_animate_goal_becomes_overrides():
-    assert goal_overrides(["arms"], False, "breathing", 0.5, 0.0) == {
+    assert goal_overrides(["arms"], "breathing", 0.5, 0.0) == {
         "moveArms": True, "moveHands": False, "moveLeg": False, "turnBase": False, "intensity": 0.5,
         "motionStyle": "breathing"}
-    every = goal_overrides([], True, "", 1.0, 10.0)
-    assert every["moveArms"] and every["moveHands"] and every["moveLeg"] and every["turnBase"]
+    assert goal_overrides(["base", "leg"], "", 0.5, 0.0)["turnBase"], "the base is a part like the others"
+    every = goal_overrides([], "", 1.0, 10.0)
+    assert every["moveArms"] and every["moveHands"] and every["moveLeg"] and every["turnBase"], \
+        "no part named: every part, the base included"
     assert every["breathsPerMinute"] == 10.0 and "motionStyle" not in every, "empty style and tempo 0 keep them"
-    with pytest.raises(ValueError, match="unknown part 'head'"):
-        goal_overrides(["arms", "head"], True, "", 1.0, 0.0)
+    with pytest.raises(ValueError, match="unknown part 'head'; expected any of: arms, hands, leg, base"):
+        goal_overrides(["arms", "head"], "", 1.0, 0.0)
 
 
 def test_a_session_goes_home_before_its_duration_ends_and_succeeds_once_the_parts_are_home():
@@ -53,3 +55,22 @@ def test_a_session_without_a_duration_runs_until_cancelled_and_gives_feedback_on
     assert not session.feedback_due(FEEDBACK_PERIOD - 0.01)
     assert session.feedback_due(FEEDBACK_PERIOD) and not session.feedback_due(FEEDBACK_PERIOD + 0.5)
     assert session.feedback_due(2 * FEEDBACK_PERIOD)
+
+
+class Goal:
+    """An animate goal's fields, as either front-end's message has them."""
+
+    def __init__(self, parts=(), style="", intensity=1.0, tempo=0.0, duration=0.0):
+        self.parts, self.style, self.intensity, self.tempo, self.duration = parts, style, intensity, tempo, duration
+
+
+def test_a_goal_is_checked_before_it_is_accepted():
+    asked = []
+    (configured, duration) = checked_goal(Goal(parts=["base"], duration=3.0), lambda overrides: asked.append(
+        overrides) or "configuration")
+    assert (configured, duration) == ("configuration", 3.0)
+    assert asked[0]["turnBase"] and not asked[0]["moveArms"]
+    with pytest.raises(ValueError, match="duration -1.0: expected a number of seconds >= 0"):
+        checked_goal(Goal(duration=-1.0), lambda overrides: "configuration")
+    with pytest.raises(ValueError, match="unknown part 'head'"):
+        checked_goal(Goal(parts=["head"]), lambda overrides: "configuration")

@@ -9,8 +9,8 @@ from control_msgs.msg import FollowJointTrajectoryResult
 from cssr_system.animate_behaviour import contract
 from cssr_system.core.foreign_motion import RESULT_GRACE
 from cssr_system.core.motion_stream import StreamState as PartState
-from cssr_system.core.part_stream import (LOST_RESULT_GRACE, MEASURE_LEAD, RETRY_DELAY, TRANSITIONS,
-                                          PartStream)
+from cssr_system.core.part_stream import (LOST_RESULT_GRACE, MAX_UNFINISHED_GOALS, MEASURE_LEAD, RETRY_DELAY,
+                                          TRANSITIONS, PartStream)
 from cssr_system.motion.breathing import CONTINUATION_LEAD
 from cssr_system.motion.planners import GOAL_TIME_TOLERANCE, SETTLE_TIME, RandomPlanner
 from cssr_system.motion.styles import MotionStyle
@@ -105,7 +105,8 @@ def test_retry_after_a_failed_goal(status):
     assert len(rig.client.handles) == 2
     assert rig.stream.state == PartState.ANIMATING
     assert "animating -> waiting" in rig.transitions()[1] and "waiting -> animating (retry)" in rig.transitions()[2]
-    assert len(rig.warnings) == 1
+    # PREEMPTED: another client's goal replaced ours (no failure), but the part moves again if none shows.
+    assert len(rig.warnings) == (0 if status == GoalStatus.PREEMPTED else 1)
 
 
 def test_lost_result_counts_as_the_end_of_the_goal():
@@ -558,3 +559,56 @@ def test_without_a_measurement_the_next_goal_starts_where_the_ended_goal_left_th
     assert len(rig.client.handles) == 2
     assert starts[-1] == pytest.approx(ended_at), "not from the centre"
     assert not numpy.allclose(ended_at, PARTS["RArm"].centre)
+
+
+def test_our_goal_replaced_by_another_nodes_goal_ends_preempted_naming_it_without_a_back_off():
+    rig = Rig()
+    rig.enable()
+    rig.stream.foreign_motion("gesture-1", "/gestureExecution", "goal", last_point_at=rig.now + 1.0)
+    # ros2_control's joint_trajectory_controller aborts the goal a new one replaces.
+    rig.finish_last(GoalStatus.ABORTED, -1, "Current goal preempted by new incoming action.")
+    (finished,) = rig.log.events(contract.GOAL_FINISHED)
+    assert (finished["state"], finished["replaced_by"]) == ("PREEMPTED", "/gestureExecution")
+    assert rig.warnings == [] and rig.stream.retry_at is None, "no failure, no back-off"
+    assert rig.log.events(contract.PART_YIELDED)[0]["caller"] == "/gestureExecution"
+
+
+def test_a_failure_of_our_own_goal_names_no_other_node():
+    rig = Rig()
+    rig.enable()
+    rig.finish_last(GoalStatus.ABORTED, -1, "tolerance")
+    (finished,) = rig.log.events(contract.GOAL_FINISHED)
+    assert finished["state"] == "ABORTED" and "replaced_by" not in finished
+
+
+def test_goals_still_running_at_exit_get_one_final_line_each():
+    rig = Rig()
+    rig.enable()
+    rig.now += 0.5
+    rig.stream.disable(home=True)
+    rig.stream.finish_at_exit()
+    finished = rig.log.events(contract.GOAL_FINISHED)
+    assert [(entry["goal"], entry["purpose"], entry["state"]) for entry in finished] == [
+        (1, "animate", "RUNNING_AT_EXIT"), (2, "home", "RUNNING_AT_EXIT")]
+    rig.finish_last(GoalStatus.SUCCEEDED)
+    assert len(rig.log.events(contract.GOAL_FINISHED)) == 2, "a result after the exit line adds none"
+
+
+def test_a_goal_dropped_unanswered_gets_its_final_line():
+    rig = Rig()
+    rig.enable()
+    for _ in range(MAX_UNFINISHED_GOALS):  # each enable replaces the running goal; the controller never answers
+        rig.enable()
+    (dropped,) = rig.log.events(contract.GOAL_FINISHED)
+    assert (dropped["goal"], dropped["state"]) == (1, "LOST")
+
+
+def test_our_goal_preempted_before_the_other_clients_goal_shows_is_no_failure():
+    rig = Rig()
+    rig.enable()
+    rig.finish_last(GoalStatus.PREEMPTED)  # our result comes before the status that shows the other goal
+    (finished,) = rig.log.events(contract.GOAL_FINISHED)
+    assert (finished["state"], finished["replaced_by"]) == ("PREEMPTED", "another client of %s" % ACTION)
+    assert rig.warnings == [], "no failure"
+    rig.stream.foreign_motion("gesture-1", "/gestureExecution", "goal", last_point_at=rig.now + 1.0)
+    assert rig.stream.state == PartState.YIELDING and rig.stream.retry_at is None

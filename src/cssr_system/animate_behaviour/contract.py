@@ -75,4 +75,7 @@ LOG_EVENTS = (NODE_STARTED, CONFIGURATION_LOADED, CONFIGURATION_INVALID, ACTIVAT
 JOINT_STATES_TOPIC = "joint_states"  # relative: in the node's namespace (/joint_states at the root)
 # Private parameters that are not overrides of configuration keys: the node's own, and dynamic_reconfigure's
 # names of the live settings (live_settings.SETTING_KEYS).
-NODE_PARAMETERS = ("configFile", "logFile", "intensity", "tempo", "style", "arms", "hands", "leg", "base")
+# actionlib's rate of the animate action's status list, which it searches from the node's private namespace up.
+STATUS_FREQUENCY_PARAMETER = "actionlib_status_frequency"
+NODE_PARAMETERS = ("configFile", "logFile", "intensity", "tempo", "style", "arms", "hands", "leg", "base",
+                   STATUS_FREQUENCY_PARAMETER)

@@ -15,9 +15,8 @@ LIVE_KEYS = tuple(SETTING_KEYS.values())
 # Two settings for an interaction (README: "Keeping the robot alive through a visit"), by dynamic_reconfigure's
 # names: moving a little, with the base still, while the robot speaks to someone; moving fully while it waits.
 PRESETS = {"engaged": {"intensity": 0.5, "base": False}, "waiting": {"intensity": 1.0, "base": True}}
-# The animate action's names of the parts it switches, and their keys.
-PART_SWITCHES = (("arms", "moveArms"), ("hands", "moveHands"), ("leg", "moveLeg"))
-BASE_SWITCH = ("base", "turnBase")
+# The animate action's names of the parts it switches (its goal's `parts`), and their keys.
+PART_SWITCHES = (("arms", "moveArms"), ("hands", "moveHands"), ("leg", "moveLeg"), ("base", "turnBase"))
 
 
 def setting_values(config: Configuration) -> Dict[str, object]:
@@ -38,12 +37,12 @@ def changed_settings(old: Configuration, new: Configuration) -> List[Tuple[str, 
 
 def moving_parts(config: Configuration) -> List[str]:
     """The parts the switches let move: of arms, hands, leg and base (the status topic's `moving_parts`)."""
-    return [name for name, key in PART_SWITCHES + (BASE_SWITCH,) if getattr(config, KEYS[key].attribute)]
+    return [name for name, key in PART_SWITCHES if getattr(config, KEYS[key].attribute)]
 
 
-def goal_overrides(parts: Sequence[str], base_rotation: bool, style: str, intensity: float,
-                   tempo: float) -> Dict[str, object]:
-    """The configuration overrides an animate goal asks for (the action's fields; README: "The animate action").
+def goal_overrides(parts: Sequence[str], style: str, intensity: float, tempo: float) -> Dict[str, object]:
+    """The configuration overrides an animate goal asks for (the action's fields; README: "The animate action"):
+    the parts it names move, the others are switched off; no part named: every part the behaviour moves.
     Raises ValueError naming what is wrong when a part is unknown; the values themselves are checked as every
     configuration value is, by `load_configuration`."""
     unknown = sorted(set(parts) - {name for name, _ in PART_SWITCHES})
@@ -51,7 +50,6 @@ def goal_overrides(parts: Sequence[str], base_rotation: bool, style: str, intens
         raise ValueError("unknown part %s; expected any of: %s" % (
             ", ".join(repr(name) for name in unknown), ", ".join(name for name, _ in PART_SWITCHES)))
     overrides: Dict[str, object] = {key: not parts or name in parts for name, key in PART_SWITCHES}
-    overrides[BASE_SWITCH[1]] = bool(base_rotation)
     overrides["intensity"] = float(intensity)
     if style:
         overrides["motionStyle"] = style

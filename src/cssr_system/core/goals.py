@@ -19,6 +19,8 @@ from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
 # A goal's end, as the log names it: actionlib's names, which the ROS 2 front-end maps its own states onto.
 SUCCEEDED, ABORTED, PREEMPTED, REJECTED, RECALLED, LOST = (
     "SUCCEEDED", "ABORTED", "PREEMPTED", "REJECTED", "RECALLED", "LOST")
+# The log's final state of a goal whose end had not been reported when the node exited.
+RUNNING_AT_EXIT = "RUNNING_AT_EXIT"
 # control_msgs' FollowJointTrajectory result code for a goal aborted for its end state (the same on ROS 1 and 2).
 GOAL_TOLERANCE_VIOLATED = -5
 
@@ -44,6 +46,7 @@ class RunningGoal:
         self.purpose = purpose
         self.handle = handle
         self.duration = outgoing.duration
+        self.replaced_by = ""  # the other node whose goal or trajectory replaced this one on the controller
         self.start_time: Optional[float] = None
         self.end_time = float("inf")
         self.last_positions = numpy.array(outgoing.timed.positions[-1], dtype=float)

@@ -66,6 +66,9 @@ class MotionStream:
     def prepare(self) -> None:
         """Work for later, done while the supervisor has nothing waiting (none by default)."""
 
+    def finish_at_exit(self) -> None:
+        """The node exits: the final state of each goal still running goes to the log (no goals by default)."""
+
     @property
     def active(self) -> bool:
         return self.state != StreamState.IDLE

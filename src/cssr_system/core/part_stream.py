@@ -24,9 +24,9 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.console import console
 from cssr_system.animate_behaviour.contract import NODE_NAME, PURPOSE_ANIMATE, PURPOSE_HOME
 from cssr_system.core.events import GoalDone
-from cssr_system.core.foreign_motion import DEFAULT_QUIET_TIME
-from cssr_system.core.goals import (ABORTED, GOAL_TOLERANCE_VIOLATED, SUCCEEDED, OutgoingGoal,
-                                    RunningGoal)
+from cssr_system.core.foreign_motion import COMMAND, DEFAULT_QUIET_TIME, GOAL
+from cssr_system.core.goals import (ABORTED, GOAL_TOLERANCE_VIOLATED, LOST, PREEMPTED, RUNNING_AT_EXIT, SUCCEEDED,
+                                    OutgoingGoal, RunningGoal)
 from cssr_system.core.motion_stream import PartMotionStream, StreamState
 from cssr_system.motion.planners import HomePlanner, Planner, settled
 from cssr_system.motion.trajectory_timing import TimedTrajectory
@@ -34,7 +34,9 @@ from cssr_system.motion.waypoints import PartMotion
 from cssr_system.pepper.joint_table import PARTS
 
 HOME_MAX_DURATION = 2.0  # s; longer returns are reported (the speed cap wins over this bound)
-RETRY_DELAY = 2.0  # s before a part tries again after a failed goal (rejected, aborted, preempted by an unseen node)
+# s before a part tries again after a failed goal (rejected, aborted), or after a goal that another client's replaced
+# when that client's goal does not show on the action's status.
+RETRY_DELAY = 2.0
 MAX_RETRY_DELAY = 30.0  # s: the back-off doubles the delay after each failure in a row, up to this
 HEALTHY_RUN = 5.0  # s: a goal that ran this long before failing starts the back-off afresh
 MAX_UNFINISHED_GOALS = 16  # handles kept for goals whose end has not been reported yet
@@ -130,18 +132,46 @@ class PartStream(PartMotionStream):
         sent = self._unfinished.pop(event.goal_number, None)
         if sent is None:
             return  # reported already
-        state_name = event.state
+        current = self.is_current(event.goal_number) and self.state != IDLE
+        state_name = self._final_state(sent, event.state, current)
         reached = self._reached_its_end(sent, event)
-        self._log.write(contract.GOAL_FINISHED, part=self.part, action=self.action, purpose=sent.purpose,
-                        goal=event.goal_number, state=state_name, error_code=event.error_code,
-                        error_string=event.error_string, reached=reached)
-        if not self.is_current(event.goal_number) or self.state == IDLE:
+        self._log_finished(event.goal_number, sent, state_name, event.error_code, event.error_string, reached)
+        if not current:
             return  # a goal we replaced or cancelled: its end changes nothing
         if reached or sent.purpose == PURPOSE_HOME:
             self._failures = 0
             self._finish_goal("goal %d %s" % (event.goal_number, state_name))
+        elif sent.replaced_by:  # no failure: the other client's goal, once seen, makes the part yield
+            self._sent = None
+            self.retry_at = self._clock() + RETRY_DELAY
+            self.transition_to(WAITING, "goal %d replaced by %s" % (event.goal_number, sent.replaced_by))
         else:
             self._retry_later(sent, event.goal_number, state_name, event.error_string)
+
+    def _final_state(self, sent: RunningGoal, state_name: str, current: bool) -> str:
+        """The log's final state. Another node's goal that replaced ours makes it PREEMPTED with `replaced_by`:
+        joint_trajectory_controller on ROS 2 may abort the goal it replaces; and a goal of ours still current
+        (none of ours replaced it) that ends PREEMPTED was replaced by another client, whose goal may show on the
+        action's status only after our result."""
+        if sent.replaced_by and state_name in (ABORTED, PREEMPTED):
+            return PREEMPTED
+        if state_name == PREEMPTED and current:
+            sent.replaced_by = "another client of %s" % self.action
+        return state_name
+
+    def _log_finished(self, number: int, sent: RunningGoal, state_name: str, error_code: Optional[int],
+                      error_string: str, reached: bool) -> None:
+        """The goal's one goal_finished line (`replaced_by` when another node's goal or trajectory replaced it)."""
+        extra = {"replaced_by": sent.replaced_by} if sent.replaced_by and state_name == PREEMPTED else {}
+        self._log.write(contract.GOAL_FINISHED, part=self.part, action=self.action, purpose=sent.purpose,
+                        goal=number, state=state_name, error_code=error_code, error_string=error_string,
+                        reached=reached, **extra)
+
+    def finish_at_exit(self) -> None:
+        """The node exits: each goal whose end has not been reported gets its one goal_finished line now."""
+        for number, sent in self._unfinished.items():
+            self._log_finished(number, sent, RUNNING_AT_EXIT, None, "still running when the node exited", False)
+        self._unfinished.clear()
 
     def _reached_its_end(self, sent: RunningGoal, event: GoalDone) -> bool:
         """The goal did what it was sent for: SUCCEEDED, or ABORTED only for its end state (GOAL_TOLERANCE_VIOLATED:
@@ -203,6 +233,12 @@ class PartStream(PartMotionStream):
     def _abandon_home(self) -> None:
         self._sent = None
         self._animated = False
+
+    def foreign_motion(self, key: str, caller: str, kind: str, last_point_at: Optional[float]) -> None:
+        """Another node's goal or trajectory on the controller replaces our goal there (a setAngles call does not)."""
+        if kind in (GOAL, COMMAND) and self._sent is not None and self.state in (ANIMATING, WAITING, HOMING):
+            self._sent.replaced_by = caller
+        super().foreign_motion(key, caller, kind, last_point_at)
 
     def _yield(self, caller: str, why: str) -> None:
         self._sent = None  # the controller runs the other node's motion now; ours is kept only for its result
@@ -317,7 +353,9 @@ class PartStream(PartMotionStream):
         self._sent = RunningGoal(number, outgoing.purpose, handle, outgoing)
         self._unfinished[number] = self._sent
         while len(self._unfinished) > MAX_UNFINISHED_GOALS:  # a controller that never answers
-            self._unfinished.popitem(last=False)
+            dropped, lost = self._unfinished.popitem(last=False)
+            self._log_finished(dropped, lost, LOST, None, "no result after %d newer goals" % MAX_UNFINISHED_GOALS,
+                               False)
         self._log_sent(number, outgoing)
         return outgoing.timed
 

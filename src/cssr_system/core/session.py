@@ -1,8 +1,10 @@
 """One goal of the animate action while it runs (README: "The animate action"): when it started, how long it lasts,
 and whether it is ending. The supervisor (core/supervisor.py) decides with it; the front-end's action server ends
 the goals and publishes their feedback."""
-from typing import Optional
+from typing import Callable, Optional, Tuple
 
+from cssr_system.animate_behaviour.configuration import ConfigurationError
+from cssr_system.animate_behaviour.live_settings import goal_overrides
 from cssr_system.motion.planners import HOME_GESTURE_DURATION, SETTLE_TIME
 
 FEEDBACK_PERIOD = 1.0  # s between feedback messages
@@ -11,6 +13,17 @@ FEEDBACK_PERIOD = 1.0  # s between feedback messages
 HOME_LEAD = HOME_GESTURE_DURATION + SETTLE_TIME
 LONGEST_HOMING = 3.0  # s after the duration: the goal succeeds even if a part is not back (a lost result, say)
 DURATION_ELAPSED, CANCELLED, REPLACED, DISABLED = "duration elapsed", "cancelled", "replaced", "disabled"
+GoalRefused = (ValueError, ConfigurationError)  # what `checked_goal` raises for a goal to reject
+
+
+def checked_goal(goal, configure: Callable[[dict], tuple]) -> Tuple[tuple, float]:
+    """An animate goal (either front-end's message: the same fields) checked before it is accepted:
+    (`configure(overrides)`'s (configuration file, configuration, topics) with the goal's settings over the node's,
+    its duration). Raises one of `GoalRefused`, naming what is wrong."""
+    overrides = goal_overrides(list(goal.parts), goal.style, goal.intensity, goal.tempo)
+    if not goal.duration >= 0.0:
+        raise ValueError("duration %r: expected a number of seconds >= 0" % goal.duration)
+    return configure(overrides), float(goal.duration)
 
 
 class Session:

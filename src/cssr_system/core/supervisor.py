@@ -206,8 +206,12 @@ class Supervisor:
         self._end_session(DISABLED)
 
     def _on_shutdown(self, event: Shutdown) -> None:
+        """Stops the robot; then every goal still running gets its final line (RUNNING_AT_EXIT): the node exits
+        before their results come."""
         self._report_disabled(self._disable(), event.reason)
         self._end_session(DISABLED)
+        for stream in self.part_streams():
+            stream.finish_at_exit()
 
     def _on_reconfigure(self, event: Reconfigure) -> None:
         """Live settings changed: applied at once while enabled (a stream's new goal splices onto its motion),

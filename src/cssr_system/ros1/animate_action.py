@@ -10,11 +10,10 @@ from typing import Callable
 import actionlib
 import rospy
 
-from cssr_system.animate_behaviour.configuration import ConfigurationError
 from cssr_system.animate_behaviour.console import console
-from cssr_system.animate_behaviour.contract import ANIMATE_ACTION, NODE_NAME
-from cssr_system.animate_behaviour.live_settings import goal_overrides
+from cssr_system.animate_behaviour.contract import ANIMATE_ACTION, NODE_NAME, STATUS_FREQUENCY_PARAMETER
 from cssr_system.core.events import AnimateCancel, AnimateGoal
+from cssr_system.core.session import GoalRefused, checked_goal
 from cssr_system.msg import AnimateAction, AnimateFeedback, AnimateResult
 from cssr_system.ros1.rospy_compat import caller_of_goal
 from cssr_system.ros1.status import part_statuses
@@ -31,28 +30,25 @@ class AnimateActionServer:
         self._configure = configure
         self._post = post
         # The goals' status is published at every change; between changes once a second is enough (actionlib's
-        # default, 5 Hz, would cost the node CPU for nothing).
-        name = rospy.resolve_name("~" + ANIMATE_ACTION)  # private: under the node's name, in its namespace
-        rospy.set_param(name + "/status_frequency", STATUS_FREQUENCY)
-        self._server = actionlib.ActionServer(name, AnimateAction, goal_cb=self._on_goal,
-                                              cancel_cb=self._on_cancel, auto_start=False)
+        # default, 5 Hz, would cost the node CPU for nothing). actionlib searches the parameter from the node's
+        # private namespace up.
+        rospy.set_param("~" + STATUS_FREQUENCY_PARAMETER, STATUS_FREQUENCY)
+        # Private: under the node's name, in its namespace (README: "Several robots").
+        self._server = actionlib.ActionServer(rospy.resolve_name("~" + ANIMATE_ACTION), AnimateAction,
+                                              goal_cb=self._on_goal, cancel_cb=self._on_cancel, auto_start=False)
 
     def start(self) -> None:
         self._server.start()
 
     def _on_goal(self, handle) -> None:
-        goal = handle.get_goal()
         try:
-            overrides = goal_overrides(goal.parts, goal.base_rotation, goal.style, goal.intensity, goal.tempo)
-            if not goal.duration >= 0.0:
-                raise ValueError("duration %r: expected a number of seconds >= 0" % goal.duration)
-            config_file, config, topics = self._configure(overrides)
-        except (ValueError, ConfigurationError) as error:
+            (config_file, config, topics), duration = checked_goal(handle.get_goal(), self._configure)
+        except GoalRefused as error:
             console.warning("%s: animate goal rejected: %s", NODE_NAME, error)
             handle.set_rejected(AnimateResult(reason="rejected: %s" % error), str(error))
             return
         by = caller_of_goal(handle.get_goal_id().id)
-        self._post(AnimateGoal(handle, config_file, config, topics, float(goal.duration), by))
+        self._post(AnimateGoal(handle, config_file, config, topics, duration, by))
 
     def _on_cancel(self, handle) -> None:
         self._post(AnimateCancel(handle))

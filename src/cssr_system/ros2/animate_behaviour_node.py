@@ -26,6 +26,7 @@ from cssr_system.core.part_stream import PartStream
 from cssr_system.core.problems import Problems
 from cssr_system.core.supervisor import Supervisor
 from cssr_system.package_files import package_dir, package_version
+from cssr_system.ros2.animate_action import AnimateActionServer
 from cssr_system.ros2.foreign_watch import ForeignCommandWatch, twist_key
 from cssr_system.ros2.joint_angles_topic import JointAnglesTopic
 from cssr_system.ros2.parameters import NodeParameters
@@ -76,8 +77,9 @@ class AnimateBehaviourNode:
         self._switch = SubscriptionSwitch(self._subscribe_joint_states, None, self.report_error, joint_states)
         self.feed = JointStateFeed(self.joint_states, self._switch, console.debug)
         self.status = StatusPublisher(node)
+        self.action = AnimateActionServer(node, self.parameters.load, self._post, self.report_error)
         self.supervisor = Supervisor(self.clock, self.log, self._make_part, self._make_base, self.status.publish,
-                                     self.joint_states, self.feed, self.report_error)
+                                     self.joint_states, self.feed, self.report_error, self.action)
         self._watcher = ControllerWatcher(self.supervisor.controlled_streams, self._post, self.log,
                                           self.supervisor.stopped, self.report_error)
         self.watch = ForeignCommandWatch(node, self.own_goals, self._post, self.clock, self.report_error,
@@ -94,6 +96,7 @@ class AnimateBehaviourNode:
         self._watcher.thread.start()
         activation = Activation(self._post, self.log, self.parameters.load, lambda: self.parameters.config_file)
         self.services = ActivationServices(self.node, activation, self.log)
+        self.action.start()
         console.info("%s: services %s and %s ready.", NODE_NAME,
                      self.node.resolve_service_name("~/" + contract.SET_ACTIVATION),
                      self.node.resolve_service_name("~/" + contract.SET_ENABLED))

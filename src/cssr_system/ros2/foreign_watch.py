@@ -20,8 +20,7 @@ from cssr_system.core.events import ForeignCommand, ForeignJointAngles, ForeignT
 from cssr_system.core.foreign_goals import ForeignGoals
 from cssr_system.core.foreign_motion import set_angles_on_our_joints
 from cssr_system.ros2.joint_angles_topic import joint_angles_key
-from cssr_system.ros2.rclpy_compat import endpoint_names
-from cssr_system.ros2.rclpy_compat import OwnMessages
+from cssr_system.ros2.rclpy_compat import OwnMessages, endpoint_names, other_action_client
 from cssr_system.ros2.time_conversion import seconds_of
 
 RUNNING_STATES = (GoalStatus.STATUS_ACCEPTED, GoalStatus.STATUS_EXECUTING, GoalStatus.STATUS_CANCELING)
@@ -93,7 +92,7 @@ class ForeignCommandWatch:
         self._goals.status_list(action, ((uuid.hex(), status.status in RUNNING_STATES)
                                          for uuid, status in zip(uuids, message.status_list)
                                          if uuid not in self._own_goals),
-                                lambda goal_id: "an action client of %s" % action)
+                                lambda goal_id: other_action_client(self._node, action))
 
     def _on_trajectory(self, message: JointTrajectory, action: str) -> None:
         topic = trajectory_topic(action)

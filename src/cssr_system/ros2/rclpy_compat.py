@@ -10,6 +10,8 @@ import collections
 import threading
 from typing import Deque, Hashable
 
+from rclpy.action import get_action_client_names_and_types_by_node
+
 REMEMBERED = 64  # messages not seen again yet: more than the node sends in the time a message takes to arrive
 
 
@@ -41,3 +43,19 @@ def subscribed_by_another_node(node, topic: str) -> bool:
     """Whether a node other than `node` subscribes to `topic`: the robot's driver or a simulator. The node's own
     subscription (its watch of the topic for other nodes' commands) does not count."""
     return bool(endpoint_names(node.get_subscriptions_info_by_topic(topic)) - {node.get_fully_qualified_name()})
+
+
+def other_action_client(node, action: str) -> str:
+    """Who else is a client of `action` (a fully qualified name): the node, where the graph shows exactly one besides
+    `node`, else "another client of <action>". A goal's id does not name its sender on ROS 2, as on ROS 1."""
+    own = node.get_fully_qualified_name()
+    clients = set()
+    for name, namespace in node.get_node_names_and_namespaces():
+        qualified = "%s/%s" % (namespace.rstrip("/"), name)
+        try:
+            actions = get_action_client_names_and_types_by_node(node, name, namespace)
+        except Exception:  # the node left the graph meanwhile
+            continue
+        if qualified != own and any(found == action for found, _ in actions):
+            clients.add(qualified)
+    return clients.pop() if len(clients) == 1 else "another client of %s" % action

@@ -1,7 +1,7 @@
 """The node's status on ROS 2 (README: "Status"): the status topic with a transient-local QoS (ROS 2's latching),
 published at every change, and the same as diagnostics, named after the node's resolved name with the robot's
 namespace as hardware id (core/status.py says what they hold)."""
-from typing import Optional
+from typing import List, Optional
 
 from cssr_system_interfaces.msg import AnimateBehaviourStatus, PartStatus
 from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
@@ -13,6 +13,12 @@ from cssr_system.animate_behaviour.live_settings import moving_parts
 from cssr_system.core.status import StatusChanges, diagnostic_summary, part_rows
 
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
+
+
+def part_statuses(rows) -> List[PartStatus]:
+    """The `part_rows` as messages (the status topic's and the animate action's feedback's `parts`)."""
+    return [PartStatus(part=part, controller=controller, state=state, yielding_to=caller)
+            for part, controller, state, caller in rows]
 
 
 class StatusPublisher:
@@ -28,9 +34,7 @@ class StatusPublisher:
         rows = part_rows(part_streams, base_streams)
         if not self._changes.changed(enabled, rows, settings, by):
             return
-        message = AnimateBehaviourStatus(enabled=enabled, settings_by=by, parts=[
-            PartStatus(part=part, controller=controller, state=state, yielding_to=caller)
-            for part, controller, state, caller in rows])
+        message = AnimateBehaviourStatus(enabled=enabled, settings_by=by, parts=part_statuses(rows))
         if settings is not None:
             message.intensity, message.tempo = float(settings.intensity), float(settings.breaths_per_minute)
             message.motion_style, message.moving_parts = settings.motion_style, moving_parts(settings)
