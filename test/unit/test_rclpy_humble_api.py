@@ -259,11 +259,8 @@ class Checker(ast.NodeVisitor):
             return self.call(node)
         if annotation and isinstance(node, ast.Subscript):  # Optional[Node]: the type inside
             self.evaluate(node.value)
-            inner = self.evaluate(node.slice.value if isinstance(node.slice, ast.Index) else node.slice, True)
-            return inner
-        if annotation:
-            self.evaluate_children(node)
-            return None
+            # Python 3.8 wraps a subscript's slice in ast.Index.
+            return self.evaluate(node.slice.value if isinstance(node.slice, ast.Index) else node.slice, True)
         self.evaluate_children(node)
         return None
 
@@ -325,33 +322,45 @@ def test_the_ros2_code_uses_only_what_humbles_rclpy_has(api):
     assert problems == [], "names that Humble's rclpy 3.3 lacks:\n" + "\n".join(problems)
 
 
-@pytest.mark.parametrize("source, expected", [
-    # Node(enable_logger_service=...) came with Jazzy.
-    ("from rclpy.node import Node\nnode = Node('n', enable_logger_service=True)\n",
-     "<module>:2: rclpy.node.Node() has no keyword argument 'enable_logger_service' in Humble's rclpy"),
-    # rclpy.event_handler is Jazzy's name of Humble's rclpy.qos_event.
-    ("from rclpy.event_handler import SubscriptionEventCallbacks\n",
-     "<module>:1: module rclpy.event_handler: Humble's rclpy has no such module"),
-    ("import rclpy.event_handler\n", "<module>:1: module rclpy.event_handler: Humble's rclpy has no such module"),
-    ("from rclpy.qos import QoSProfile, DurabilityPolicy, NoSuchPolicy\n",
-     "<module>:1: rclpy.qos.NoSuchPolicy: Humble's rclpy has no such name"),
-    ("import rclpy\nrclpy.qos.DurabilityPolicy.TRANSIENT_LOCAL\nrclpy.qos.DurabilityPolicy.BEST_AVAILABLE\n",
-     "<module>:3: rclpy.qos.DurabilityPolicy.BEST_AVAILABLE: Humble's rclpy has no such name"),
-    # A method of an instance, a method's keyword, and the instance that a method's annotation names.
-    ("from rclpy.node import Node\n\ndef f(node: Node):\n    node.get_clock().now().to_msg()\n"
-     "    node.create_timer(1.0, f, autostart=False)\n    node.get_nodes()\n",
-     "<module>:5: rclpy.node.Node.create_timer() has no keyword argument 'autostart' in Humble's rclpy\n"
-     "<module>:6: rclpy.node.Node.get_nodes: Humble's rclpy has no such name"),
-    # `self` in a subclass: its own names are its own; the rest must be rclpy's.
-    ("from rclpy.node import Node\n\nclass Mine(Node):\n    def __init__(self):\n"
-     "        super().__init__('mine')\n        self.timer = self.create_timer(1.0, self.tick)\n"
-     "        self.timer.cancel()\n        self.timer.stop()\n        self.get_logger().info('x')\n\n"
-     "    def tick(self):\n        self.get_clock()\n        self.wait_for_node('other', 1.0)\n",
-     "<module>:8: rclpy.timer.Timer.stop: Humble's rclpy has no such name\n"
-     "<module>:13: rclpy.node.Node.wait_for_node: Humble's rclpy has no such name"),
-    # Keywords of what a module's function is, through `import rclpy`.
-    ("import rclpy\nrclpy.init(args=None, signal_handler_options=None, domain_id=3)\nrclpy.spin(None, executor=None)\n",
-     ""),
-])
-def test_the_check_finds_what_humble_lacks(api, source, expected):
+LACKING = {
+    # Node(enable_logger_service=...): Iron and later.
+    "a class's keyword": ("from rclpy.node import Node\nnode = Node('n', enable_logger_service=True)\n",
+                          "<module>:2: rclpy.node.Node() has no keyword argument 'enable_logger_service' in "
+                          "Humble's rclpy"),
+    # rclpy.event_handler: Iron's name of Humble's rclpy.qos_event.
+    "a module, imported from": ("from rclpy.event_handler import SubscriptionEventCallbacks\n",
+                                "<module>:1: module rclpy.event_handler: Humble's rclpy has no such module"),
+    "a module, imported": ("import rclpy.event_handler\n",
+                           "<module>:1: module rclpy.event_handler: Humble's rclpy has no such module"),
+    "a name of a module": ("from rclpy.qos import QoSProfile, DurabilityPolicy, NoSuchPolicy\n",
+                           "<module>:1: rclpy.qos.NoSuchPolicy: Humble's rclpy has no such name"),
+    # DurabilityPolicy.BEST_AVAILABLE: Iron and later.
+    "an attribute chain": ("import rclpy\nrclpy.qos.DurabilityPolicy.TRANSIENT_LOCAL\n"
+                           "rclpy.qos.DurabilityPolicy.BEST_AVAILABLE\n",
+                           "<module>:3: rclpy.qos.DurabilityPolicy.BEST_AVAILABLE: Humble's rclpy has no such name"),
+    # An annotated parameter, what a method's return annotation names, a method's keyword (create_timer's
+    # autostart: Jazzy and later) and a method no rclpy has.
+    "an instance's method and keyword": (
+        "from rclpy.node import Node\n\ndef f(node: Node):\n    node.get_clock().now().to_msg()\n"
+        "    node.create_timer(1.0, f, autostart=False)\n    node.get_nodes()\n",
+        "<module>:5: rclpy.node.Node.create_timer() has no keyword argument 'autostart' in Humble's rclpy\n"
+        "<module>:6: rclpy.node.Node.get_nodes: Humble's rclpy has no such name"),
+    # `self` in a subclass: its own names are its own, the rest must be rclpy's (Node.wait_for_node: Iron and
+    # later); an attribute it assigns has the type of what it assigns (no rclpy Timer has stop()).
+    "self in a subclass": (
+        "from rclpy.node import Node\n\nclass Mine(Node):\n    def __init__(self):\n"
+        "        super().__init__('mine')\n        self.timer = self.create_timer(1.0, self.tick)\n"
+        "        self.timer.cancel()\n        self.timer.stop()\n        self.get_logger().info('x')\n\n"
+        "    def tick(self):\n        self.get_clock()\n        self.wait_for_node('other', 1.0)\n",
+        "<module>:8: rclpy.timer.Timer.stop: Humble's rclpy has no such name\n"
+        "<module>:13: rclpy.node.Node.wait_for_node: Humble's rclpy has no such name"),
+    # What Humble has passes: functions of the package through `import rclpy`, with their keywords.
+    "what Humble has": ("import rclpy\nrclpy.init(args=None, signal_handler_options=None, domain_id=3)\n"
+                        "rclpy.spin(None, executor=None)\n", ""),
+}
+
+
+@pytest.mark.parametrize("case", sorted(LACKING))
+def test_the_check_finds_what_humble_lacks(api, case):
+    source, expected = LACKING[case]
     assert "\n".join(problems_in(api, source)) == expected
