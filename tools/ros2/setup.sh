@@ -84,7 +84,8 @@ mkdir -p "$build_dir" "$install_dir"
 venv_stamp=$( { cat "$requirements" "$tools_dir/setup.sh"; echo "$python"; "$python" --version; } | sha256sum |
   cut -c1-32)
 if [ "$(cat "$venv/.stamp" 2>/dev/null)" != "$venv_stamp" ]; then
-  log_step "ROS 2 $CSSR_ROS2_DISTRO venv in $venv (Python $("$python" -c 'import platform; print(platform.python_version())'))"
+  log_step "ROS 2 $CSSR_ROS2_DISTRO venv in $venv (Python $("$python" -c 'import platform
+print(platform.python_version())'))"
   # Builds made with another venv would name its files.
   rm -rf "$venv" "$build_dir" "$install_dir"
   mkdir -p "$build_dir" "$install_dir"
@@ -151,4 +152,5 @@ for package in "${packages[@]}"; do
   echo "$stamp" > "$stamp_file"
   echo "  built in $((SECONDS - started)) s"
 done
-echo "ROS 2 $CSSR_ROS2_DISTRO environment ready in $ros2_dir; to use it: bash tools/ros2/run.sh CMD, or source tools/ros2/env.sh"
+echo "ROS 2 $CSSR_ROS2_DISTRO environment ready in $ros2_dir; to use it: bash tools/ros2/run.sh CMD, or source" \
+  "tools/ros2/env.sh"
