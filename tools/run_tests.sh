@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The whole test suite: installs what is missing, builds the workspace and the ROS 2 side, then runs the static
 # checks and the unit tests (pytest), then the system tests and the integration tests (rostest) in three lanes
-# (tools/run_test_job.sh) and, beside them, the ROS 2 tests (pytest in the ROS 2 environment), and ends with
-# `N passed, N failed`.
+# (tools/run_test_job.sh) and, beside them, the ROS 2 tests (pytest in the ROS 2 environment: every one on Jazzy, then
+# the harness test and the demo test on Kilted), and ends with `N passed, N failed`.
 # Exits non-zero when any test fails or does not run.
 set -uo pipefail
 source "$(dirname "$0")/common.sh"
@@ -11,7 +11,8 @@ cd "$REPO_DIR"
 prepare_workspace || exit 1
 rm -rf "$RESULTS_DIR"
 mkdir -p "$RESULTS_DIR/rostest"
-# The ROS 2 side is made beside the static checks and the unit tests (mostly downloads and one core's builds).
+# The ROS 2 side (Jazzy, the default distribution) is made beside the static checks and the unit tests (mostly
+# downloads and one core's builds); Kilted's in the ROS 2 lane below.
 log_step "ROS 2 side: venv and packages (tools/ros2/setup.sh, in the background; output: $RESULTS_DIR/ros2-setup.out)"
 bash tools/ros2/setup.sh > "$RESULTS_DIR/ros2-setup.out" 2>&1 &
 ros2_setup=$!
@@ -47,16 +48,33 @@ elif [ "$ros2_status" != 0 ]; then
 fi
 
 expected=(checksums.xml unit.xml unit-python38.xml system.xml check-python38.xml check-catkin-lint.xml check-flake8.xml
-          check-complexity.xml ros2.xml)
+          check-complexity.xml ros2.xml ros2-kilted.xml demo-ros2-kilted.xml)
+# The ROS 2 lane: every ROS 2 test on Jazzy; then Kilted's set-up, its harness test and its demo test (on a ROS 2
+# domain of its own: Jazzy's demo test runs among the system tests). Output: ros2.out, then ros2-kilted.out.
+ros2_lane() {
+  local status=0
+  bash tools/ros2/run.sh python3 -m pytest test/ros2 -q -p no:cacheprovider -W ignore::DeprecationWarning \
+    --junitxml="$RESULTS_DIR/ros2.xml" > "$RESULTS_DIR/ros2.out" 2>&1 || status=1
+  {
+    CSSR_ROS2_DISTRO=kilted bash tools/ros2/setup.sh &&
+      { CSSR_ROS2_DISTRO=kilted bash tools/ros2/run.sh python3 -m pytest test/ros2/test_harness_ros2.py -q \
+          -p no:cacheprovider -W ignore::DeprecationWarning --junitxml="$RESULTS_DIR/ros2-kilted.xml"
+        harness=$?
+        CSSR_ROS2_DISTRO=kilted python3 -m pytest test/system/test_demo_ros2.py -q -p no:cacheprovider \
+          --junitxml="$RESULTS_DIR/demo-ros2-kilted.xml" && [ "$harness" = 0 ]; }
+  } > "$RESULTS_DIR/ros2-kilted.out" 2>&1 || status=1
+  return "$status"
+}
 # The ROS 2 tests run beside the rostests (both mostly wait for their nodes), each on a ROS 2 domain of its own.
 if [ "$ros2_status" = 0 ]; then
-  log_step "ROS 2 tests (pytest in the ROS 2 environment, beside the rostests; output: $RESULTS_DIR/ros2.out)"
-  bash tools/ros2/run.sh python3 -m pytest test/ros2 -q -p no:cacheprovider -W ignore::DeprecationWarning \
-    --junitxml="$RESULTS_DIR/ros2.xml" > "$RESULTS_DIR/ros2.out" 2>&1 &
+  log_step "ROS 2 tests (beside the rostests; output: $RESULTS_DIR/ros2.out and ros2-kilted.out)"
+  ros2_lane &
   ros2_tests=$!
 else
-  python3 tools/check_to_junit.py --skipped "$(tail -n 1 "$RESULTS_DIR/ros2-setup.out")" "$RESULTS_DIR/ros2.xml" \
-    ros2_tests
+  for name in ros2 ros2-kilted demo-ros2-kilted; do
+    python3 tools/check_to_junit.py --skipped "$(tail -n 1 "$RESULTS_DIR/ros2-setup.out")" "$RESULTS_DIR/$name.xml" \
+      "${name//-/_}_tests"
+  done
   ros2_tests=
 fi
 rostests=(test/*.test)
@@ -73,7 +91,12 @@ log_step "system tests (pytest) and integration tests (rostest), three at a time
   xargs -P 3 -I{} bash tools/run_test_job.sh "$RESULTS_DIR" {}
 
 if [ -n "$ros2_tests" ]; then
-  wait "$ros2_tests" && echo "  test/ros2: ok" || { echo "  test/ros2: FAILED"; tail -n 40 "$RESULTS_DIR/ros2.out"; }
+  if wait "$ros2_tests"; then
+    echo "  test/ros2 (Jazzy; the harness and demo tests on Kilted): ok"
+  else
+    echo "  test/ros2 (Jazzy; the harness and demo tests on Kilted): FAILED"
+    tail -n 40 "$RESULTS_DIR/ros2.out" "$RESULTS_DIR/ros2-kilted.out"
+  fi
 fi
 
 log_step "summary"

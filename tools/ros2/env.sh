@@ -1,7 +1,10 @@
 # The ROS 2 run-time environment of this clone (sourced, not run; bash, safe under `set -u`): the venv and the
-# install space that tools/ros2/setup.sh makes in $WORKSPACE_DIR/ros2, and none of ROS 1's environment.
+# install space that tools/ros2/setup.sh makes in $WORKSPACE_DIR/ros2/<distribution>, and none of ROS 1's
+# environment.
 #   source tools/ros2/env.sh      # in a shell; WORKSPACE_DIR as tools/common.sh names it, unless already set
 #   bash tools/ros2/run.sh CMD... # one command, from any shell (a ROS 1 one included)
+# CSSR_ROS2_DISTRO names the distribution: one with its pinned set here, tools/ros2/requirements-<distribution>.txt
+# (jazzy, the default, or kilted); each has its own folder, so both can be set up side by side.
 # The caller's ROS_DOMAIN_ID and ROS_AUTOMATIC_DISCOVERY_RANGE are kept (a robot on the network needs SUBNET);
 # the default range is this machine only. Exports ROS2_VENV and ROS2_INSTALL (the install's programs are in
 # $ROS2_INSTALL/lib/cssr_system: there is no `ros2` command here).
@@ -12,7 +15,13 @@ if [ -z "${WORKSPACE_DIR:-}" ]; then
     _ "$(dirname "${BASH_SOURCE[0]}")")
 fi
 export WORKSPACE_DIR
-export ROS2_DIR="$WORKSPACE_DIR/ros2"
+export CSSR_ROS2_DISTRO="${CSSR_ROS2_DISTRO:-jazzy}"
+if [ ! -f "$(dirname "${BASH_SOURCE[0]}")/requirements-$CSSR_ROS2_DISTRO.txt" ]; then
+  echo "tools/ros2/env.sh: CSSR_ROS2_DISTRO=$CSSR_ROS2_DISTRO: expected one of:" \
+    "$(cd "$(dirname "${BASH_SOURCE[0]}")" && ls requirements-*.txt | sed 's/^requirements-//; s/\.txt$//' | xargs)" >&2
+  return 1
+fi
+export ROS2_DIR="$WORKSPACE_DIR/ros2/$CSSR_ROS2_DISTRO"
 export ROS2_VENV="$ROS2_DIR/venv"
 export ROS2_INSTALL="$ROS2_DIR/install"
 
@@ -30,7 +39,7 @@ _ros2_env_clean() {
   local IFS=:
   for entry in $PATH; do
     case $entry in
-      /opt/ros/*|"$WORKSPACE_DIR"/devel*|"$ROS2_VENV"/bin|"") ;;
+      /opt/ros/*|"$WORKSPACE_DIR"/devel*|"$WORKSPACE_DIR"/ros2/*/venv/bin|"") ;;
       *) path="${path:+$path:}$entry" ;;
     esac
   done
@@ -65,7 +74,7 @@ export LD_LIBRARY_PATH="$ROS2_INSTALL/lib:$ROS2_VENV/lib$_ros2_libs"
 export _ROS_WHEELS_BOOTSTRAP_COMPLETE=1
 export RMW_IMPLEMENTATION=rmw_fastrtps_cpp
 # What a ROS 2 setup.bash says, for programs that ask which ROS they run under.
-export ROS_VERSION=2 ROS_PYTHON_VERSION=3 ROS_DISTRO=kilted
+export ROS_VERSION=2 ROS_PYTHON_VERSION=3 ROS_DISTRO="$CSSR_ROS2_DISTRO"
 # ROS 2's own default domain (what a simulator or a driver started by hand uses); tests set one of their own.
 export ROS_DOMAIN_ID="${ROS_DOMAIN_ID:-0}"
 export ROS_AUTOMATIC_DISCOVERY_RANGE="${ROS_AUTOMATIC_DISCOVERY_RANGE:-LOCALHOST}"

