@@ -7,8 +7,8 @@
 #   make demo ROS=2 DURATION=10 PLATFORM=simulator BEHAVIOUR=hands OUTPUT_DIR=/tmp/demo STYLE=breathing
 #   make demo ROS=2 DRIVER=naoqi_dcm INTERACTION=1 NODE_ARGS="gestureDuration:=1.5" SIM_ARGS="feedback_rate:=20"
 #   make demo ROS=2 STYLE=breathing ACTUATION=joint_angles
-# Environment: the DEMO_<option> variables of tools/demo.sh but two: DEMO_GESTURE (there is no ROS 2 gesture
-# player) and DEMO_MASTER_URI (no master); NODE_ARGS and SIM_ARGS words become ROS 2 parameters (`-p name:=value`).
+# Environment: the DEMO_<option> variables of tools/demo.sh but DEMO_MASTER_URI (no master); NODE_ARGS and
+# SIM_ARGS words become ROS 2 parameters (`-p name:=value`).
 # DEMO_DOMAIN_ID: the ROS_DOMAIN_ID to use (default: one that no process of this machine uses).
 # Exit status: 0 when the run completed, 1 when something did not start or failed, 130 on Ctrl-C.
 #
@@ -34,12 +34,14 @@ ros2_parameters() {
   echo "${result[*]:-}"
 }
 case ${DEMO_GESTURE:-0} in
-  0|false|no) ;;
-  *) echo "demo: error: GESTURE=${DEMO_GESTURE} needs ROS 1 (there is no ROS 2 gesture player)" >&2; exit 1 ;;
+  1|true|yes) gesture=true ;;
+  0|false|no) gesture=false ;;
+  *) echo "demo: error: GESTURE=${DEMO_GESTURE} (expected 1 or 0)" >&2; exit 1 ;;
 esac
-case ${DEMO_ROBOTS:-1}/${DEMO_INTERACTION:-0}${DEMO_ACTUATION:-} in
-  1/*|2/0|2/false|2/no) ;;
-  2/*) echo "demo: error: ROBOTS=2 runs the plain demo on each robot (no INTERACTION or ACTUATION)" >&2; exit 1 ;;
+case ${DEMO_ROBOTS:-1}/${DEMO_INTERACTION:-0}${DEMO_ACTUATION:-}$gesture in
+  1/*|2/0false|2/falsefalse|2/nofalse) ;;
+  2/*) echo "demo: error: ROBOTS=2 runs the plain demo on each robot (no GESTURE, INTERACTION or ACTUATION)" >&2
+       exit 1 ;;
   *) echo "demo: error: ROBOTS=${DEMO_ROBOTS} (expected 1 or 2)" >&2; exit 1 ;;
 esac
 case ${DEMO_INTERACTION:-0} in
@@ -148,7 +150,7 @@ trap 'stop_programs "${started[@]}"; end_display' EXIT
 # recording and log in a folder of its own; robot2 is enabled 5 s after robot1, so robot1 is disabled first.
 robots=("")
 [ "${DEMO_ROBOTS:-1}" = 1 ] || robots=(robot1 robot2)
-sims=() nodes=() recorders=() drivers=()
+sims=() nodes=() recorders=() drivers=() players=()
 for index in "${!robots[@]}"; do
   robot=${robots[$index]} namespace=() folder=$output_dir
   if [ -n "$robot" ]; then
@@ -163,8 +165,12 @@ for index in "${!robots[@]}"; do
   start cssr_system.ros2.recorder_node --ros-args "${namespace[@]}" -p "output_dir:=$folder" \
     -p "log_file:=$folder/animateBehaviourLogFile.log" -p "platform:=$platform"
   recorders+=($!) started+=($!)
+  if [ "$gesture" = true ]; then  # another node's gesture half-way: not watched, it ends on its own
+    start cssr_system.ros2.gesture_player --ros-args "${namespace[@]}" -p "platform:=$platform"
+    players+=($!) started+=($!)
+  fi
   start cssr_system.ros2.demo_driver --ros-args "${namespace[@]}" -p "duration:=${DEMO_DURATION:-30}" \
-    -p "delay:=$((index * 5)).0" -p "platform:=$platform" -p "interaction:=$interaction" \
+    -p "delay:=$((index * 5)).0" -p "platform:=$platform" -p "interaction:=$interaction" -p "gesture:=$gesture" \
     -p "log_file:=$folder/animateBehaviourLogFile.log" -p "outcome_file:=$folder/demo_outcome.txt"
   drivers+=($!) started+=($!)
 done
@@ -196,7 +202,7 @@ for pid in "${drivers[@]}"; do
   wait "$pid" || status=$?
   [ "$driver_status" != 0 ] || driver_status=$status
 done
-stop_programs "${recorders[@]}" "${nodes[@]}" "${sims[@]}"
+stop_programs "${recorders[@]}" "${players[@]}" "${nodes[@]}" "${sims[@]}"
 recorder_status=0
 for pid in "${recorders[@]}"; do wait "$pid" || recorder_status=$?; done
 end_display

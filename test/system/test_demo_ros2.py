@@ -139,3 +139,13 @@ def test_ctrl_c_disables_the_node_first_stops_everything_and_still_plots(ros2_en
     disabled = names.index("activation_request", names.index("activation_request") + 1)
     assert events[disabled][1] == {"state": "disabled", "reply": "1"}
     assert disabled < names.index("node_stopped"), "the node was stopped before it was disabled"
+
+
+def test_the_ros2_demo_with_a_gesture_yields_to_it_and_the_gesture_succeeds(ros2_environment, tmp_path):
+    status, output, _ = run_demo(["make", "demo", "ROS=2", "GESTURE=1", "DURATION=%d" % DEMO_DURATION,
+                                  "OUTPUT_DIR=%s" % tmp_path], tmp_path)
+    assert status == 0, output
+    assert "animateBehaviourDemoGesture: gesture on the right arm started" in output, output
+    assert any("yielding: right arm to /animateBehaviourDemoGesture" in line for line in status_lines(output)), output
+    ended = [line for line in output.splitlines() if "gesture on the right arm ended" in line]
+    assert len(ended) == 1 and ended[0].rstrip().endswith("SUCCEEDED"), output

@@ -12,7 +12,7 @@ from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.trajectory_interpolation import TrajectoryPoint
 
 NODE_NAME = "animateBehaviourDemoGesture"
-PLAY_TOPIC = "/" + NODE_NAME + "/play"  # std_msgs/Empty: play the gesture now
+PLAY_TOPIC = NODE_NAME + "/play"  # std_msgs/Empty: play the gesture now (relative: in the demo's namespace)
 GESTURE_PART = "RArm"
 GESTURE_DURATION = 4.0  # s
 

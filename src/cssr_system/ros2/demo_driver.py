@@ -1,16 +1,17 @@
 """animateBehaviourDemo on ROS 2: the demo's driver: enables animateBehaviour, prints what moves, disables it.
 
-  python3 -m cssr_system.ros2.demo_driver --ros-args [-p duration:=30.0] [-p tail:=3.0] [-p platform:=robot]
-      [-p interaction:=false] [-p recorder:=/animateBehaviourRecorder] [-p log_file:=FILE] [-p outcome_file:=FILE]
-      [-p startup_timeout:=40.0]
+  python3 -m cssr_system.ros2.demo_driver --ros-args [-p duration:=30.0] [-p tail:=3.0] [-p delay:=0.0]
+      [-p platform:=robot] [-p interaction:=false] [-p gesture:=false] [-p node:=animateBehaviour]
+      [-p recorder:=animateBehaviourRecorder] [-p log_file:=FILE] [-p outcome_file:=FILE] [-p startup_timeout:=40.0]
 
-The run of the ROS 1 driver (`cssr_system.demo.demo_run`), over rclpy: it waits (at most
-``startup_timeout`` s) until the simulated Pepper publishes /joint_states, the node's service
-/animateBehaviour/setActivation is there and the recorder (``recorder``; "" for none) subscribes /joint_states and
-every JointAngles topic the node publishes; after 1 s at rest it enables the node, prints one line a second (the
-parts moved in that second, the base heading from ``platform``'s odometry, the parts yielding to another node),
-with ``interaction`` sets the engaged preset half-way through the node's parameters, disables the node after
-``duration`` s, prints for ``tail`` s more so the return to rest is recorded, and exits.
+The run of the ROS 1 driver (`cssr_system.demo.demo_run`), over rclpy, with the node, the recorder and the gesture
+player in its own namespace: it waits (at most ``startup_timeout`` s) until the simulated Pepper publishes
+joint_states, the node's service setActivation is there, the recorder (``recorder``; "" for none) subscribes
+joint_states and every JointAngles topic the node publishes, and with ``gesture`` the gesture player listens; after
+1 s (and ``delay`` s more) at rest it enables the node, prints one line a second (the parts moved in that second, the
+base heading from ``platform``'s odometry, the parts yielding to another node), with ``interaction`` sets the engaged
+preset half-way through the node's parameters, with ``gesture`` has the gesture player play half-way, disables the
+node after ``duration`` s, prints for ``tail`` s more so the return to rest is recorded, and exits.
 
 SIGINT or SIGTERM disables the node first, then exits. ``log_file``: the node's log, where a refused enable's
 reason is. ``outcome_file`` receives one line: the exit status and why. Exit status: 0 completed, 1 something did
@@ -31,11 +32,13 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.parameter import Parameter
 from sensor_msgs.msg import JointState
+from std_msgs.msg import Empty
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.live_settings import PRESETS, SETTING_KEYS
 from cssr_system.demo.demo_run import (EXIT_FAILED, NODE_NAME, SERVICE_CALL_TIMEOUT,
                                        DemoRun, Wait, drive, say, service_failure, write_outcome)
+from cssr_system.demo.gesture import PLAY_TOPIC
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
 from cssr_system.recording.recording import BASE_LABEL, yaw_from_quaternion
@@ -53,9 +56,11 @@ class DemoDriver(DemoRun):
     """The run (`demo_run`) on ROS 2."""
 
     def __init__(self, node: Node, target: str, duration: float, tail: float, recorder: str, startup_timeout: float,
-                 log_file: Optional[str], heading_topic: str, interaction: bool, delay: float = 0.0) -> None:
-        super().__init__(duration, tail, startup_timeout, log_file, gesture=False, interaction=interaction,
+                 log_file: Optional[str], heading_topic: str, interaction: bool, delay: float = 0.0,
+                 gesture: bool = False) -> None:
+        super().__init__(duration, tail, startup_timeout, log_file, gesture=gesture, interaction=interaction,
                          delay=delay)
+        self._gesture = node.create_publisher(Empty, PLAY_TOPIC, 1) if gesture else None
         self.node, self.target, self.recorder = node, target, recorder  # full names of the node and the recorder
         self.service = contract.interface_of(target, contract.SET_ACTIVATION)
         self._activation = node.create_client(SetActivation, self.service)
@@ -103,7 +108,12 @@ class DemoDriver(DemoRun):
         waits = [("the animateBehaviour node (its service %s)" % self.service, self._activation.service_is_ready)]
         if self.recorder:
             waits.append(("the recorder %s" % self.recorder, self.records_the_node))
+        if self._gesture is not None:
+            waits.append(("the gesture player (%s)" % PLAY_TOPIC, lambda: self._gesture.get_subscription_count() > 0))
         return waits
+
+    def play_gesture(self) -> None:
+        self._gesture.publish(Empty())
 
     def records_the_node(self) -> bool:
         """Whether the recorder subscribes joint_states and every JointAngles topic the node publishes: the node's
@@ -130,6 +140,7 @@ def make_driver(node: Node) -> DemoDriver:
     dynamic = ParameterDescriptor(dynamic_typing=True)
     value = {name: node.declare_parameter(name, default, dynamic).value for name, default in (
         ("duration", 30.0), ("tail", 3.0), ("delay", 0.0), ("platform", "robot"), ("interaction", False),
+        ("gesture", False),
         ("node", contract.NODE_NAME), ("recorder", RECORDER_NAME), ("log_file", ""), ("startup_timeout", 40.0))}
     duration, tail, delay = (number(value[name], name) for name in ("duration", "tail", "delay"))
     if not duration > 0.0 or tail < 0.0 or delay < 0.0:
@@ -139,7 +150,8 @@ def make_driver(node: Node) -> DemoDriver:
     # Relative names: the driver, the node and the recorder share a namespace (README: "Several robots").
     target, recorder = (node.resolve_topic_name(str(value[name]), only_expand=True) for name in ("node", "recorder"))
     return DemoDriver(node, target, duration, tail, recorder, number(value["startup_timeout"], "startup_timeout"),
-                      str(value["log_file"]) or None, heading_topic, value["interaction"] is True, delay)
+                      str(value["log_file"]) or None, heading_topic, value["interaction"] is True, delay,
+                      value["gesture"] is True)
 
 
 def run(node: Node, outcome_file: str, early_stops: List[str]) -> int:
