@@ -19,7 +19,7 @@ def motions(config=BREATHING):
 
 def run(config=BREATHING, seconds=120.0, parts=("RArm", "LArm", "Leg", "RHand"), seed=5, start=None):
     """What the controllers execute when the node chains the style's goals as it does: each goal replaces the
-    previous one CONTINUATION_LEAD s before its end, from the state the controller is in. Returns, per part, the
+    previous one CONTINUATION_LEAD s before its ending begins, from the state the controller is in. Returns, per part, the
     splines with their switch times, and the samples (times, positions, velocities, accelerations) at 50 Hz."""
     style = MotionStyle(config, make_rng(seed))
     result = {}
@@ -34,7 +34,7 @@ def run(config=BREATHING, seconds=120.0, parts=("RArm", "LArm", "Leg", "RHand"),
         while now < seconds:
             timed = plan(now, *state)
             spline = JointTrajectorySpline(state[0], state[1], state[2], to_points(timed), start_time=now)
-            switch = spline.end_time - CONTINUATION_LEAD
+            switch = now + timed.times[-2] - CONTINUATION_LEAD
             pieces.append((now, spline))
             now = switch
             state = tuple(numpy.asarray(values) for values in spline.sample(now))
