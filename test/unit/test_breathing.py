@@ -19,8 +19,9 @@ def motions(config=BREATHING):
 
 def run(config=BREATHING, seconds=120.0, parts=("RArm", "LArm", "Leg", "RHand"), seed=5, start=None):
     """What the controllers execute when the node chains the style's goals as it does: each goal replaces the
-    previous one CONTINUATION_LEAD s before its ending begins, from the state the controller is in. Returns, per part, the
-    splines with their switch times, and the samples (times, positions, velocities, accelerations) at 50 Hz."""
+    previous one CONTINUATION_LEAD s before its ending begins, from the state the controller is in. Returns, per
+    part, the splines with their switch times, and the samples (times, positions, velocities, accelerations) at
+    50 Hz."""
     style = MotionStyle(config, make_rng(seed))
     result = {}
     for part in parts:

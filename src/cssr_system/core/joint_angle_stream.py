@@ -2,15 +2,15 @@
 the robot"): the states of core/motion_stream.py, the planners of core/part_stream.py, and the streaming of
 motion/joint_angle_stream.py.
 
-The part plans as a goal stream does: a planned trajectory from where the part is, the next one when it is about to
-end (a continuous style: at its `replacement_time`, before its ending). Instead of sending it as a goal, at every send time (a
-grid of PERIOD on the stream's clock) it publishes the setAngles calls that `joint_angle_stream.tick` makes of it:
+The part plans as a goal stream does: a planned trajectory from where the part is, the next one when it is about to end
+(a continuous style: at its `replacement_time`, before its ending). Instead of sending it as a goal, at every send time
+(a grid of PERIOD on the stream's clock) it publishes the setAngles calls that `joint_angle_stream.tick` makes of it:
 one per joint speed, up to five for an arm. Each part's grid is offset by PERIOD / 5 from the previous part's:
-naoqi_driver queues ten messages of the topic (the simulated Pepper's rospy subscriber keeps ten of one read), and
-the parts' calls all at once, up to fifteen, would lose the first ones. naoqi_driver runs each call at once, so
-the robot moves along the plan with no dead band (unlike pepper_dcm's). A disable stops the stream at once and sends
-one call: every joint to its centre at STOP_SPEED (the part is ``homing`` until the slowest arrives), or, without
-homeOnDisable, to where it is measured now.
+naoqi_driver queues ten messages of the topic (the simulated Pepper's rospy subscriber keeps ten of one read), and the
+parts' calls all at once, up to fifteen, would lose the first ones. naoqi_driver runs each call at once, so the robot
+moves along the plan with no dead band (unlike pepper_dcm's). A disable stops the stream at once and sends one call:
+every joint to its centre at STOP_SPEED (the part is ``homing`` until the slowest arrives), or, without homeOnDisable,
+to where it is measured now.
 
 The supervisor thread is the only caller. What the stream needs from the outside is injected, so that unit tests
 drive it with a fake topic and a fake clock:

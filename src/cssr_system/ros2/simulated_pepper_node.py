@@ -24,9 +24,10 @@ Serves:
   <ns>/<Name>_controller/follow_joint_trajectory  control_msgs/action/FollowJointTrajectory. As ros2_control's
                       joint_trajectory_controller (Jazzy and later): a goal that fails its checks
                       (pepper/ros2_trajectory_validation.py: its message is logged) or that the model would refuse
-                      (joints, points) is rejected; an accepted one succeeds or aborts with the model's error code and string; a new
-                      goal or a joint_trajectory message aborts the running goal (INVALID_GOAL, "preempted"); a
-                      cancel stops the joints where they are and the goal ends canceled with an empty result
+                      (joints, points) is rejected; an accepted one succeeds or aborts with the model's error code
+                      and string; a new goal or a joint_trajectory message aborts the running goal (INVALID_GOAL,
+                      "preempted"); a cancel stops the joints where they are and the goal ends canceled with an
+                      empty result
   <ns>/<Name>_controller/joint_trajectory  trajectory_msgs/msg/JointTrajectory, obeyed like a goal, no result
   <ns>/cmd_moveto or <ns>/cmd_vel  geometry_msgs/msg/Twist
   /joint_angles       naoqi_bridge_msgs/msg/JointAnglesWithSpeed (with driver naoqi_driver)
