@@ -40,3 +40,39 @@ def test_joints_points_and_times_are_checked_with_the_controllers_messages():
     assert problem([AT_REST], stamp=10.0, now=13.0) == (
         "Received trajectory with non-zero start time (10.000000) that ends in the past (12.000000)")
     assert problem([AT_REST], stamp=10.0, now=11.0) == ""
+
+
+def test_thirty_minutes_of_goals_switching_style_every_minute_pass_at_jazzys_defaults():
+    """The node's goals (with their hold, as sent) over 30 minutes, the style switched every minute and each goal
+    replaced as the node replaces it: none would be rejected by joint_trajectory_controller on Jazzy."""
+    import numpy
+    from conftest import default_configuration
+
+    from cssr_system.motion.planners import settled
+    from cssr_system.motion.styles import MotionStyle
+    from cssr_system.motion.trajectory_timing import to_points
+    from cssr_system.motion.waypoints import animated_parts, make_rng
+    from cssr_system.pepper.joint_table import PARTS
+    from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
+
+    configs = [default_configuration(motion_style=style, random_seed=3) for style in ("breathing", "random")]
+    motions = {motion.part: motion for motion in animated_parts(configs[0], tuple(PARTS))}
+    goals = 0
+    for part in ("RArm", "RHand", "Leg"):
+        joints = PARTS[part].joints
+        state = (numpy.array(PARTS[part].centre), numpy.zeros(len(joints)), numpy.zeros(len(joints)))
+        now = 0.0
+        while now < 1800.0:
+            minute = int(now // 60.0)
+            plan = MotionStyle(configs[minute % 2], make_rng(minute)).planner(motions[part])
+            while now < 60.0 * (minute + 1):
+                timed = plan(now, *state)
+                points = [GoalPoint(time, point.positions, point.velocities, point.accelerations)
+                          for time, point in zip(settled(timed).times, to_points(settled(timed)))]
+                assert trajectory_problem(JAZZY, joints, joints, points) == "", (part, now)
+                goals += 1
+                spline = JointTrajectorySpline(*state, to_points(timed), start_time=now)
+                replaced_after = plan.replacement_time(timed)
+                now = spline.end_time if replaced_after is None else now + replaced_after
+                state = tuple(numpy.asarray(values, dtype=float) for values in spline.sample(now))
+    assert goals > 100
