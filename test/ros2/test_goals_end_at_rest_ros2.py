@@ -30,6 +30,18 @@ JUMP = 0.01  # rad/s: the largest change of velocity between two 50 Hz samples t
 SAMPLE_PERIOD = 0.02  # s between /joint_states messages
 
 
+def breathing_run(tmp_path, breaths_per_minute: int) -> Run:
+    """The simulated Pepper (Jazzy's defaults) and the node breathing with arms and leg, enabled."""
+    run = Run(tmp_path, ("platform:=simulator",), ("platform:=simulator", "behaviour:=body", "motionStyle:=breathing",
+                                                   "breathsPerMinute:=%d" % breaths_per_minute), DOMAIN)
+    try:
+        assert run.client.activate("enabled") == contract.REPLY_SUCCESS
+    except AssertionError:
+        run.close()
+        raise
+    return run
+
+
 def goal_answer(client, velocities):
     """Whether the simulated Pepper accepts a goal to the right arm's centre whose last point has `velocities`."""
     action = ActionClient(client.node, FollowJointTrajectory, ARM_ACTION)
@@ -63,11 +75,9 @@ def test_the_simulated_pepper_refuses_a_moving_last_point_at_jazzys_default_and_
 
 
 def test_each_style_and_a_switch_of_style_while_enabled_run_with_no_goal_rejected(tmp_path):
-    run = Run(tmp_path, ("platform:=simulator",),
-              ("platform:=simulator", "behaviour:=body", "motionStyle:=breathing", "breathsPerMinute:=20"), DOMAIN)
+    run = breathing_run(tmp_path, 20)
     try:
         client = run.client
-        assert client.activate("enabled") == contract.REPLY_SUCCESS
         # Breathing until every part's first goal has been replaced by its next (9 s goals at 20 breaths a minute).
         assert wait_until(lambda: {entry.fields["part"] for entry in run.entries(contract.GOAL_FINISHED)
                                    if entry.fields["state"] == "PREEMPTED"} >= SIMULATOR_PARTS, 20.0)
@@ -87,11 +97,9 @@ def test_each_style_and_a_switch_of_style_while_enabled_run_with_no_goal_rejecte
 
 
 def test_a_node_killed_mid_breathing_leaves_every_joint_coming_to_rest_smoothly(tmp_path):
-    run = Run(tmp_path, ("platform:=simulator",),
-              ("platform:=simulator", "behaviour:=body", "motionStyle:=breathing", "breathsPerMinute:=15"), DOMAIN)
+    run = breathing_run(tmp_path, 15)
     try:
         client = run.client
-        assert client.activate("enabled") == contract.REPLY_SUCCESS
         assert wait_until(lambda: all(client.part_state(part) == "animating" for part in SIMULATOR_PARTS), 3.0)
         time.sleep(4.0)
         killed = len(client.joint_states)
