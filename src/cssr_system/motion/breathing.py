@@ -39,7 +39,7 @@ from cssr_system.motion.planners import Planner
 from cssr_system.motion.trajectory_timing import TimedTrajectory, speed_caps
 from cssr_system.motion.waypoints import PartMotion
 from cssr_system.pepper.joint_table import MIRRORED_JOINTS, short_name
-from cssr_system.pepper.trajectory_interpolation import quintic_coefficients
+from cssr_system.pepper.trajectory_interpolation import evaluate_polynomial, quintic_coefficients
 
 POINT_SPACING = 0.2  # s between the points of a goal
 GOAL_BREATHS = 3  # breaths per goal
@@ -209,12 +209,7 @@ def ending(state, lower, upper, caps, accelerations) -> Ending:
     rest = numpy.clip(p0 + v0 * durations / 2.0 + a0 * durations ** 2 / 12.0, lower, upper)
     coefficients = quintic_coefficients(p0, v0, a0, rest, 0.0, 0.0, durations)  # (durations, joints, 6)
     tau = durations[:, :, None] * numpy.linspace(0.0, 1.0, ENDING_SAMPLES)  # (durations, 1, samples)
-    c = coefficients[..., None]
-    positions = c[:, :, 0] + tau * (c[:, :, 1] + tau * (c[:, :, 2] + tau * (c[:, :, 3] + tau * (
-        c[:, :, 4] + tau * c[:, :, 5]))))
-    velocities = c[:, :, 1] + tau * (2 * c[:, :, 2] + tau * (3 * c[:, :, 3] + tau * (
-        4 * c[:, :, 4] + tau * 5 * c[:, :, 5])))
-    accelerations_played = 2 * c[:, :, 2] + tau * (6 * c[:, :, 3] + tau * (12 * c[:, :, 4] + tau * 20 * c[:, :, 5]))
+    positions, velocities, accelerations_played = evaluate_polynomial(coefficients[:, :, None, :], tau)
     outside = numpy.maximum(numpy.maximum(lower - positions.min(axis=2), positions.max(axis=2) - upper), 0.0)
     excess = numpy.maximum.reduce([
         numpy.abs(accelerations_played).max(axis=2) / (ENDING_MARGIN * numpy.asarray(accelerations) + 1e-12),
