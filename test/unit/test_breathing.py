@@ -19,8 +19,9 @@ def motions(config=BREATHING):
 
 def run(config=BREATHING, seconds=120.0, parts=("RArm", "LArm", "Leg", "RHand"), seed=5, start=None):
     """What the controllers execute when the node chains the style's goals as it does: each goal replaces the
-    previous one CONTINUATION_LEAD s before its end, from the state the controller is in. Returns, per part, the
-    splines with their switch times, and the samples (times, positions, velocities, accelerations) at 50 Hz."""
+    previous one CONTINUATION_LEAD s before its ending begins, from the state the controller is in. Returns, per
+    part, the splines with their switch times, and the samples (times, positions, velocities, accelerations) at
+    50 Hz."""
     style = MotionStyle(config, make_rng(seed))
     result = {}
     for part in parts:
@@ -34,7 +35,7 @@ def run(config=BREATHING, seconds=120.0, parts=("RArm", "LArm", "Leg", "RHand"),
         while now < seconds:
             timed = plan(now, *state)
             spline = JointTrajectorySpline(state[0], state[1], state[2], to_points(timed), start_time=now)
-            switch = spline.end_time - CONTINUATION_LEAD
+            switch = now + timed.times[-2] - CONTINUATION_LEAD
             pieces.append((now, spline))
             now = switch
             state = tuple(numpy.asarray(values) for values in spline.sample(now))
@@ -152,3 +153,36 @@ def test_the_style_bound_of_acceleration_holds_over_two_minutes(two_minutes):
     for part, (times, _, _, accelerations) in two_minutes.items():
         bound = MotionStyle(BREATHING, make_rng(5)).planner(motions()[part]).function.peak_acceleration
         assert numpy.abs(accelerations).max() <= bound * 1.001, part
+
+
+ENDING_CASES = [(12.0, 0.6, 3.0), (5.0, 1.0, 17.0), (20.0, 1.0, 41.0), (20.0, 0.3, 8.0), (8.0, 1.0, 63.0)]
+
+
+@pytest.mark.parametrize("breaths_per_minute,amplitude,start", ENDING_CASES)
+def test_a_goal_that_no_next_goal_replaces_comes_to_rest_smoothly_in_its_band(breaths_per_minute, amplitude, start):
+    """Every goal ends at rest (velocity and acceleration exactly 0, as ROS 2 Jazzy's controller requires). Played
+    to its end, as when the node dies, each joint slows to rest inside its band, accelerating no more than the style
+    does on that joint, under the speed cap, and the ending begins after the time the next goal would replace it."""
+    config = default_configuration(motion_style="breathing", random_seed=5, breaths_per_minute=breaths_per_minute,
+                                   breathing_amplitude=amplitude)
+    style = MotionStyle(config, make_rng(5))
+    for part, motion in motions(config).items():
+        plan = style.planner(motion)
+        joints = PARTS[part].joints
+        state = (numpy.array(PARTS[part].centre), numpy.zeros(len(joints)), numpy.zeros(len(joints)))
+        plan(0.0, *state)  # the style's clock starts at 0
+        for goal_start in (start, start + 2.9, start + 7.7):
+            state = plan.function.sample(goal_start)
+            timed = plan(goal_start, *state)
+            assert not timed.velocities[-1].any() and not timed.accelerations[-1].any(), part
+            assert plan.replacement_time(timed) < timed.times[-2], "replaced before the ending begins"
+            spline = JointTrajectorySpline(*state, to_points(timed), start_time=0.0)
+            moments = numpy.linspace(timed.times[-2], timed.times[-1] + 0.5, 400)
+            samples = [spline.sample(moment) for moment in moments]
+            positions, velocities, accelerations = (numpy.array([s[k] for s in samples]) for k in range(3))
+            assert (numpy.abs(velocities) <= speed_caps(joints)).all(), part
+            assert (numpy.abs(accelerations) <= plan.function.peak_accelerations * 1.001 + 1e-12).all(), part
+            lower = [bounds.lower for bounds in motion.bounds]
+            upper = [bounds.upper for bounds in motion.bounds]
+            assert (positions >= numpy.array(lower) - 1e-9).all() and (positions <= numpy.array(upper) + 1e-9).all()
+            assert numpy.abs(velocities[-1]).max() < 1e-12, "at rest after the last point"

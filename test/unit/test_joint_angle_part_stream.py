@@ -158,12 +158,12 @@ def test_one_angles_sent_line_per_second_of_stream():
     assert sum(line["messages"] for line in lines) <= len(rig.topic.calls)
 
 
-def test_the_breathing_style_plans_the_next_trajectory_before_the_end():
+def test_the_breathing_style_plans_the_next_trajectory_before_the_ending():
     rig = Rig(style="breathing")
     rig.enable()
     rig.step()
     first = rig.log.events(contract.GOAL_SENT)[0]
-    end = rig.now + first["times"][-1]
+    end = rig.now + first["times"][-2]  # the last point is the stop to rest
     rig.run_until(end - CONTINUATION_LEAD - 0.05)
     assert len(rig.log.events(contract.GOAL_SENT)) == 1
     rig.run_until(end - CONTINUATION_LEAD + 0.15)

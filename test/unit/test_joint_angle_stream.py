@@ -33,9 +33,11 @@ class ChainedPlans:
         state = (numpy.array(PARTS[part].centre), numpy.zeros(count), numpy.zeros(count))
         self.pieces, now = [], 0.0
         while now < seconds + 1.0:
-            spline = JointTrajectorySpline(*state, to_points(plan(now, *state)), start_time=now)
+            timed = plan(now, *state)
+            spline = JointTrajectorySpline(*state, to_points(timed), start_time=now)
             self.pieces.append((now, spline))
-            now = spline.end_time - (plan.continuation_lead or 0.0)
+            replaced_after = plan.replacement_time(timed)
+            now = spline.end_time if replaced_after is None else now + replaced_after
             state = tuple(numpy.asarray(values) for values in spline.sample(now))
 
     def sample(self, t):

@@ -57,6 +57,11 @@ class Rig:
         handle = self.client.handles[-1]
         return self.now + handle.goal.trajectory.points[-1].time_from_start.to_sec()
 
+    def ending_start_time(self):
+        """When the last goal's ending begins: its last point before the stop to rest and the hold."""
+        handle = self.client.handles[-1]
+        return self.now + handle.goal.trajectory.points[-3].time_from_start.to_sec()
+
     def transitions(self):
         return [line.split(": ", 2)[2] for line in self.debug_lines if " -> " in line]
 
@@ -379,11 +384,14 @@ def test_a_controller_that_goes_away_and_comes_back():
     assert rig.log.events(contract.CONTROLLER_LOST) == [{"part": "RArm", "action": ACTION}]
 
 
-def test_a_continuous_style_replaces_each_goal_before_it_ends():
+def test_a_continuous_style_replaces_each_goal_before_its_ending_begins():
     rig = Rig()
     style = MotionStyle(default_configuration(motion_style="breathing", random_seed=2), make_rng(2))
     rig.stream.enable(rig.motion, style.planner(rig.motion))
-    first_end = rig.goal_end_time()
+    points = rig.client.handles[0].goal.trajectory.points
+    assert points[-1].velocities == [0.0] * len(points[-1].velocities), "the goal ends at rest"
+    assert any(points[-3].velocities), "after a stop that begins moving"
+    first_end = rig.ending_start_time()
     assert rig.stream.next_deadline() == pytest.approx(first_end - CONTINUATION_LEAD)
     rig.now = first_end - CONTINUATION_LEAD - 0.01
     rig.stream.tick()
@@ -518,11 +526,11 @@ def test_a_continuous_goal_sent_before_the_clock_runs_is_continued_before_its_en
     rig.now = 0.0
     style = MotionStyle(default_configuration(motion_style="breathing", random_seed=2), make_rng(2))
     rig.stream.enable(rig.motion, style.planner(rig.motion))
-    duration = rig.client.handles[-1].goal.trajectory.points[-1].time_from_start.to_sec()
+    ending_start = rig.client.handles[-1].goal.trajectory.points[-3].time_from_start.to_sec()
     rig.now = 5000.0
     rig.stream.tick()
     assert len(rig.client.handles) == 1, "not replaced when the clock starts"
-    assert rig.stream.next_deadline() == pytest.approx(5000.0 + duration - CONTINUATION_LEAD)
+    assert rig.stream.next_deadline() == pytest.approx(5000.0 + ending_start - CONTINUATION_LEAD)
 
 
 def test_the_measured_joints_are_needed_but_while_a_goal_of_ours_runs_until_its_last_second():
@@ -550,7 +558,7 @@ def test_without_a_measurement_the_next_goal_starts_where_the_ended_goal_left_th
     def recording_plan(now, positions, velocities, accelerations):
         starts.append(numpy.array(positions, dtype=float))
         return planner(now, positions, velocities, accelerations)
-    recording_plan.continuation_lead = planner.continuation_lead
+    recording_plan.replacement_time = planner.replacement_time
     rig.plan = recording_plan
     rig.enable()
     ended_at = numpy.array(rig.client.handles[-1].goal.trajectory.points[-1].positions)

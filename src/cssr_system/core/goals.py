@@ -33,6 +33,7 @@ class OutgoingGoal(NamedTuple):
     timed: TimedTrajectory  # as planned (the log's waypoints)
     duration: float  # s, with the hold the goal carries (planners.settled)
     goal: object  # the client's message
+    replaced_after: Optional[float] = None  # s after its start when the next goal replaces it (None: at its end)
 
 
 class RunningGoal:
@@ -47,6 +48,7 @@ class RunningGoal:
         self.handle = handle
         self.duration = outgoing.duration
         self.replaced_by = ""  # the other node whose goal or trajectory replaced this one on the controller
+        self.replaced_after = outgoing.replaced_after
         self.start_time: Optional[float] = None
         self.end_time = float("inf")
         self.last_positions = numpy.array(outgoing.timed.positions[-1], dtype=float)
@@ -60,6 +62,13 @@ class RunningGoal:
     def start(self, now: float) -> None:
         self.start_time = now
         self.end_time = now + self.duration
+
+    @property
+    def replacement_time(self) -> Optional[float]:
+        """When the next goal replaces this one, on the stream's clock (None: when it ends, or not dated yet)."""
+        if self.replaced_after is None or self.start_time is None:
+            return None
+        return self.start_time + self.replaced_after
 
     @property
     def dated(self) -> bool:

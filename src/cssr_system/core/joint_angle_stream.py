@@ -2,15 +2,15 @@
 the robot"): the states of core/motion_stream.py, the planners of core/part_stream.py, and the streaming of
 motion/joint_angle_stream.py.
 
-The part plans as a goal stream does: a planned trajectory from where the part is, the next one when it is about to
-end (a continuous style: `continuation_lead` before its end). Instead of sending it as a goal, at every send time (a
-grid of PERIOD on the stream's clock) it publishes the setAngles calls that `joint_angle_stream.tick` makes of it:
+The part plans as a goal stream does: a planned trajectory from where the part is, the next one when it is about to end
+(a continuous style: at its `replacement_time`, before its ending). Instead of sending it as a goal, at every send time
+(a grid of PERIOD on the stream's clock) it publishes the setAngles calls that `joint_angle_stream.tick` makes of it:
 one per joint speed, up to five for an arm. Each part's grid is offset by PERIOD / 5 from the previous part's:
-naoqi_driver queues ten messages of the topic (the simulated Pepper's rospy subscriber keeps ten of one read), and
-the parts' calls all at once, up to fifteen, would lose the first ones. naoqi_driver runs each call at once, so
-the robot moves along the plan with no dead band (unlike pepper_dcm's). A disable stops the stream at once and sends
-one call: every joint to its centre at STOP_SPEED (the part is ``homing`` until the slowest arrives), or, without
-homeOnDisable, to where it is measured now.
+naoqi_driver queues ten messages of the topic (the simulated Pepper's rospy subscriber keeps ten of one read), and the
+parts' calls all at once, up to fifteen, would lose the first ones. naoqi_driver runs each call at once, so the robot
+moves along the plan with no dead band (unlike pepper_dcm's). A disable stops the stream at once and sends one call:
+every joint to its centre at STOP_SPEED (the part is ``homing`` until the slowest arrives), or, without homeOnDisable,
+to where it is measured now.
 
 The supervisor thread is the only caller. What the stream needs from the outside is injected, so that unit tests
 drive it with a fake topic and a fake clock:
@@ -81,6 +81,7 @@ class JointAngleStream(PartMotionStream):
         self._warn = warn
         self._plan: Optional[Planner] = None
         self._followed: Optional[JointTrajectorySpline] = None  # the planned trajectory the stream follows
+        self._replaced_at = 0.0  # when the next plan replaces the followed one, on the stream's clock
         self._sent: Optional[LatestTick] = None  # None: the stream does not run
         self._animated = False  # a call of ours moved the part away from its centre since the last return
         self._homing_until: Optional[float] = None
@@ -193,10 +194,10 @@ class JointAngleStream(PartMotionStream):
         return None
 
     def _continuation_due(self, now: float) -> bool:
-        """The followed plan is about to end: its end, or `continuation_lead` before it for a continuous style."""
+        """The followed plan is due to be replaced: at its end, or at its `replacement_time` for a continuous style."""
         if self._followed is None or self._plan is None:
             return False
-        return now >= self._followed.end_time - (self._plan.continuation_lead or 0.0)
+        return now >= self._replaced_at
 
     # -- the stream ---------------------------------------------------------------------------------
     def _animate(self, why: str, planned=None) -> None:
@@ -206,6 +207,8 @@ class JointAngleStream(PartMotionStream):
         start_state = self._current_state(now)
         timed = self._plan(now, *start_state)
         self._followed = JointTrajectorySpline(*start_state, to_points(timed), start_time=now)
+        replaced_after = self._plan.replacement_time(timed)
+        self._replaced_at = self._followed.end_time if replaced_after is None else now + replaced_after
         self._log_planned(PURPOSE_ANIMATE, timed.times, timed.positions)
         self._animated = True
         self._homing_until = None

@@ -274,10 +274,9 @@ class PartStream(PartMotionStream):
 
     def _continuation_at(self) -> Optional[float]:
         """When a continuous style's goal is replaced by the next, before it ends."""
-        if self._plan is None or self._plan.continuation_lead is None or self.state != ANIMATING \
-                or self.sent_purpose != PURPOSE_ANIMATE:
+        if self.state != ANIMATING or self.sent_purpose != PURPOSE_ANIMATE:
             return None
-        return self._sent.end_time - self._plan.continuation_lead
+        return self._sent.replacement_time
 
     def _continuation_due(self, now: float) -> bool:
         at = self._continuation_at()
@@ -338,7 +337,7 @@ class PartStream(PartMotionStream):
         timed = plan(now, *start_state)
         held = settled(timed)
         return OutgoingGoal(purpose, now if now > 0.0 else None, start_state, timed, held.times[-1],
-                            self.client.goal(PARTS[self.part].joints, held))
+                            self.client.goal(PARTS[self.part].joints, held), plan.replacement_time(timed))
 
     def _dispatch(self, outgoing: OutgoingGoal) -> TimedTrajectory:
         self._goal_number += 1

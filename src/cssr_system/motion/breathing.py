@@ -19,12 +19,19 @@ A goal samples q, q' and q'' exactly every POINT_SPACING seconds for GOAL_BREATH
 far enough from the part's current state (which may be anywhere after another node's gesture) for the
 controller's quintic splice to stay under the cap and to accelerate no harder than the style itself ever does
 (`BreathingMotion.peak_acceleration`): the first goal after an enable or a yield eases in from the measured pose
-instead of twitching. The node replaces each goal CONTINUATION_LEAD seconds
-before it ends (`BreathingPlanner.continuation_lead`), so the motion is C2 continuous and never stops.
-Pure Python and numpy.
+instead of twitching.
+
+Every goal ends at rest (README: "Controllers: what each goal carries"): after its last sample, one more segment
+brings each joint to a stop (`ending`): velocity and acceleration 0 at its last point, as joint_trajectory_controller
+on ROS 2 Jazzy and later requires by default, so that a goal the node can no longer replace (the node killed, the
+connection lost) ends with the robot at rest instead of a jump in velocity. The segment is the controller's quintic
+from the last sample to a rest point in the band; it lasts long enough to accelerate no more than the style does on
+each joint and to stay under the speed cap. The node replaces each goal CONTINUATION_LEAD seconds before that ending
+begins (`BreathingPlanner.replacement_time`), so while it runs the ending is never played: the motion is C2
+continuous and never stops. Pure Python and numpy.
 """
 import math
-from typing import Dict, List, Tuple
+from typing import Dict, List, NamedTuple, Tuple
 
 import numpy
 
@@ -32,7 +39,7 @@ from cssr_system.motion.planners import Planner
 from cssr_system.motion.trajectory_timing import TimedTrajectory, speed_caps
 from cssr_system.motion.waypoints import PartMotion
 from cssr_system.pepper.joint_table import MIRRORED_JOINTS, short_name
-from cssr_system.pepper.trajectory_interpolation import quintic_coefficients
+from cssr_system.pepper.trajectory_interpolation import evaluate_polynomial, quintic_coefficients
 
 POINT_SPACING = 0.2  # s between the points of a goal
 GOAL_BREATHS = 3  # breaths per goal
@@ -53,6 +60,9 @@ SMOOTHSTEP_PEAK_SLOPE = 1.875  # the peak of d/dx of 6x^5 - 15x^4 + 10x^3
 SMOOTHSTEP_PEAK_CURVE = 10.0 / math.sqrt(3.0)  # the peak of |d2/dx2| of the same
 LONGEST_BLEND = 8.0  # s: the first point is never later than this (a part whose style barely accelerates)
 BLEND_SAMPLES = 33  # times at which a blend's acceleration is evaluated
+LONGEST_ENDING = 12.0  # s: the longest stop at a goal's end that is tried
+ENDING_SAMPLES = 41  # times at which an ending's speed, acceleration and position are evaluated
+ENDING_MARGIN = 0.98  # of the style's acceleration and the speed cap: room for what falls between the samples
 
 
 def _smoothstep(x: float) -> Tuple[float, float, float]:
@@ -114,7 +124,9 @@ class BreathingMotion:
             self._terms.append((middle, half_width * scale, LAG.get(name, 0.0), sign, name))
             peaks.append(half_width * scale * self._curvature_bound(weights))
         self._shared = shared
-        # The most any moving joint of the part accelerates in this style: a bound of every term's peak.
+        # The most each joint accelerates in this style (0 for a held one): a bound of its terms' peaks.
+        self.peak_accelerations = numpy.array(peaks)
+        # The most any moving joint of the part accelerates in this style.
         self.peak_acceleration = max(peaks, default=0.0)
 
     def _curvature_bound(self, weights: Tuple[float, float, float]) -> float:
@@ -179,15 +191,45 @@ def blend_time(start: numpy.ndarray, start_velocities: numpy.ndarray, target: nu
     return float(numpy.max(SMOOTHSTEP_PEAK_SLOPE * distance / room))
 
 
-class BreathingPlanner(Planner):
-    """The breathing style's `Planner` of one part: goals sampled from the function."""
+class Ending(NamedTuple):
+    """How a goal comes to rest after its last sample: how long it takes and where each joint stops."""
 
-    continuation_lead = CONTINUATION_LEAD  # the node replaces each goal this long before its end
+    duration: float
+    positions: numpy.ndarray
+
+
+def ending(state, lower, upper, caps, accelerations) -> Ending:
+    """The shortest stop (a multiple of POINT_SPACING) from `state` (p, v, a per joint) to rest, as the controller's
+    quintic plays it, that keeps each joint's |acceleration| within `accelerations`, its speed under `caps` and its
+    path inside [lower, upper]. Each joint stops where a cubic fall of its speed to zero takes it,
+    p + v D / 2 + a D^2 / 12, or at the edge of its band when that lies beyond. None meeting it all (not expected
+    from a state of the style): the one that exceeds least."""
+    p0, v0, a0 = (numpy.asarray(values, dtype=float) for values in state)
+    durations = POINT_SPACING * numpy.arange(1, int(round(LONGEST_ENDING / POINT_SPACING)) + 1)[:, None]
+    rest = numpy.clip(p0 + v0 * durations / 2.0 + a0 * durations ** 2 / 12.0, lower, upper)
+    coefficients = quintic_coefficients(p0, v0, a0, rest, 0.0, 0.0, durations)  # (durations, joints, 6)
+    tau = durations[:, :, None] * numpy.linspace(0.0, 1.0, ENDING_SAMPLES)  # (durations, 1, samples)
+    positions, velocities, accelerations_played = evaluate_polynomial(coefficients[:, :, None, :], tau)
+    outside = numpy.maximum(numpy.maximum(lower - positions.min(axis=2), positions.max(axis=2) - upper), 0.0)
+    excess = numpy.maximum.reduce([
+        numpy.abs(accelerations_played).max(axis=2) / (ENDING_MARGIN * numpy.asarray(accelerations) + 1e-12),
+        numpy.abs(velocities).max(axis=2) / (ENDING_MARGIN * numpy.asarray(caps)),
+        numpy.where(outside > 1e-9, 2.0 + outside, 0.0),  # out of the band: worse than any excess within it
+    ]).max(axis=1)
+    met = numpy.flatnonzero(excess <= 1.0)
+    index = int(met[0]) if met.size else int(numpy.argmin(excess))
+    return Ending(float(durations[index, 0]), rest[index])
+
+
+class BreathingPlanner(Planner):
+    """The breathing style's `Planner` of one part: goals sampled from the function, each ending at rest."""
 
     def __init__(self, motion: PartMotion, config, shared: Dict[str, object], rng: numpy.random.Generator,
                  epoch: Dict[str, float]) -> None:
         self.function = BreathingMotion(motion, config.breaths_per_minute, config.breathing_amplitude, shared, rng)
         self.caps = speed_caps(motion.joints)
+        self._lower = numpy.array([bounds.lower for bounds in motion.bounds])
+        self._upper = numpy.array([bounds.upper for bounds in motion.bounds])
         self.goal_length = GOAL_BREATHS / self.function.frequency
         self._epoch = epoch  # shared by the parts of one enable: t = now - epoch keeps the numbers small
 
@@ -198,8 +240,16 @@ class BreathingPlanner(Planner):
         count = int(round(self.goal_length / POINT_SPACING))
         times = first + POINT_SPACING * numpy.arange(count)
         samples = [self.function.sample(now - origin + time) for time in times]
-        return TimedTrajectory(times, numpy.array([s[0] for s in samples]), numpy.array([s[1] for s in samples]),
-                               numpy.array([s[2] for s in samples]))
+        stop = ending(samples[-1], self._lower, self._upper, self.caps, self.function.peak_accelerations)
+        zeros = numpy.zeros((1, len(self.caps)))
+        return TimedTrajectory(numpy.append(times, times[-1] + stop.duration),
+                               numpy.vstack([[s[0] for s in samples], stop.positions[None, :]]),
+                               numpy.vstack([[s[1] for s in samples], zeros]),
+                               numpy.vstack([[s[2] for s in samples], zeros]))
+
+    def replacement_time(self, timed: TimedTrajectory) -> float:
+        """CONTINUATION_LEAD before the goal's ending (its last segment) begins."""
+        return float(timed.times[-2]) - CONTINUATION_LEAD
 
     def _first_point_time(self, t: float, start) -> float:
         """When the goal reaches the function: soon enough to follow it, late enough for the quintic from `start`

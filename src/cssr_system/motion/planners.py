@@ -3,11 +3,11 @@
 A `Planner` gives, for a part's current state (positions, velocities and accelerations at time `now` on the clock
 the controller executes goals on), its next goal as a `TimedTrajectory` with times relative to `now`. Three kinds:
 the random style (`RandomPlanner`), the breathing style (`breathing.BreathingPlanner`) and the return to the centre
-after a disable (`HomePlanner`). `continuation_lead` tells the node when to send the next goal: None, when the goal
-has ended (it ends at rest); a number of seconds, that long before its end (a continuous style: a goal that ended
-while moving would stop the robot abruptly).
+after a disable (`HomePlanner`). Every goal ends at rest. `replacement_time` tells the node when to send the next
+goal: None, when the goal has ended; a number of seconds after the goal's start, before its ending begins (a
+continuous style, whose goals are replaced while they move; their ending only plays when no next goal comes).
 
-A goal that ends at rest is sent with a hold (`settled`; README: "Controllers: what each goal carries"): its last
+Every goal is sent with a hold (`settled`; README: "Controllers: what each goal carries"): its last
 position again, SETTLE_TIME later. joint_trajectory_controller judges a goal at the first control update after its
 last point: every joint's velocity must then be within `stopped_velocity_tolerance` (0.01 rad/s by default).
 Hardware that measures velocity as a difference of positions still reports motion for one or two control periods
@@ -34,10 +34,12 @@ REFERENCE_TEMPO = 12.0  # breaths per minute at which the random style's gesture
 class Planner:
     """The next goal of one part: ``planner(now, positions, velocities, accelerations)`` -> a `TimedTrajectory`."""
 
-    continuation_lead: Optional[float] = None  # s before a goal's end when the next one replaces it (None: at it)
-
     def __call__(self, now: float, positions, velocities, accelerations) -> TimedTrajectory:
         raise NotImplementedError
+
+    def replacement_time(self, timed: TimedTrajectory) -> Optional[float]:
+        """Seconds after the start of the goal `timed` when the next goal replaces it (None: when it has ended)."""
+        return None
 
 
 def settled(timed: TimedTrajectory) -> TimedTrajectory:

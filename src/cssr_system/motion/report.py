@@ -51,14 +51,15 @@ class ChainedPlans:
     like one spline (`sample(t)` -> positions, velocities, accelerations)."""
 
     def __init__(self, plan, part: str, seconds: float) -> None:
-        lead = plan.continuation_lead or 0.0
         count = len(PARTS[part].joints)
         state = (numpy.array(PARTS[part].centre, dtype=float), numpy.zeros(count), numpy.zeros(count))
         now, self.pieces = 0.0, []
         while now < seconds:
-            spline = JointTrajectorySpline(*state, to_points(plan(now, *state)), start_time=now)
+            timed = plan(now, *state)
+            spline = JointTrajectorySpline(*state, to_points(timed), start_time=now)
             self.pieces.append(spline)
-            now = spline.end_time - lead
+            replaced_after = plan.replacement_time(timed)
+            now = spline.end_time if replaced_after is None else now + replaced_after
             state = tuple(numpy.asarray(values, dtype=float) for values in spline.sample(now))
         self._starts = numpy.array([spline.start_time for spline in self.pieces])
 

@@ -159,12 +159,13 @@ class JointTrajectoryState(NamedTuple):
 
 
 class GoalPoint(NamedTuple):
-    """One point of a goal: time from the trajectory start; velocities/accelerations may be empty."""
+    """One point of a goal: time from the trajectory start; velocities/accelerations (and effort) may be empty."""
 
     time_from_start: float
     positions: Sequence[float]
     velocities: Sequence[float] = ()
     accelerations: Sequence[float] = ()
+    effort: Sequence[float] = ()  # checked by ROS 2's rules only (ros2_trajectory_validation)
 
 
 class JointTolerance(NamedTuple):

@@ -17,13 +17,17 @@ Parameters (declared with these defaults; any other is ignored):
   velocity_report     "measured", "zero" or "commanded": the joint velocity the controllers' hardware reports
   goal_time           s after a trajectory's end allowed to get inside the goal tolerances (0.0)
   stopped_velocity_tolerance  every joint's velocity tolerance at a goal's end (0.01; 0: unchecked)
+  allow_nonzero_velocity_at_trajectory_end  joint_trajectory_controller's parameter: false (Jazzy's default) rejects
+                      a trajectory whose last point still moves; true (Humble's default) takes it
   An invalid value: one line naming it and what was expected, exit status 1.
 Serves (every name relative: the node's own namespace applies; <ns> is pepper_dcm or pepper):
   <ns>/<Name>_controller/follow_joint_trajectory  control_msgs/action/FollowJointTrajectory. As ros2_control's
-                      joint_trajectory_controller (Jazzy and later): a goal the model would refuse (joints, points)
-                      is rejected; an accepted one succeeds or aborts with the model's error code and string; a new
-                      goal or a joint_trajectory message aborts the running goal (INVALID_GOAL, "preempted"); a
-                      cancel stops the joints where they are and the goal ends canceled with an empty result
+                      joint_trajectory_controller (Jazzy and later): a goal that fails its checks
+                      (pepper/ros2_trajectory_validation.py: its message is logged) or that the model would refuse
+                      (joints, points) is rejected; an accepted one succeeds or aborts with the model's error code
+                      and string; a new goal or a joint_trajectory message aborts the running goal (INVALID_GOAL,
+                      "preempted"); a cancel stops the joints where they are and the goal ends canceled with an
+                      empty result
   <ns>/<Name>_controller/joint_trajectory  trajectory_msgs/msg/JointTrajectory, obeyed like a goal, no result
   <ns>/cmd_moveto or <ns>/cmd_vel  geometry_msgs/msg/Twist
   joint_angles        naoqi_bridge_msgs/msg/JointAnglesWithSpeed (with driver naoqi_driver)
@@ -59,6 +63,7 @@ from trajectory_msgs.msg import JointTrajectory, JointTrajectoryPoint
 
 from cssr_system.animate_behaviour.contract import JOINT_STATES_TOPIC
 from cssr_system.pepper.joint_table import ACTION_NAME, JOINTS, WHEEL_JOINTS
+from cssr_system.pepper.ros2_trajectory_validation import JAZZY, trajectory_problem
 from cssr_system.pepper.simulated_pepper import (CONTROL_RATE, DRIVERS, GOAL_TIME, IDEAL, INVALID_GOAL, MEASURED,
                                                  NAOQI_DRIVER, PLATFORMS, POSTURES, STOPPED_VELOCITY_TOLERANCE,
                                                  SUCCESSFUL, GoalOutcome, GoalPoint, GoalTolerances, SimulatedPepper,
@@ -83,7 +88,8 @@ SUCCEEDED, ABORTED, CANCELED = "succeeded", "aborted", "canceled"
 PARAMETERS: Tuple[Tuple[str, Any], ...] = (
     ("platform", "robot"), ("initial_posture", "rest"), ("moveto_keep_latest", False), ("feedback_rate", 10.0),
     ("driver", IDEAL), ("control_rate", CONTROL_RATE), ("velocity_report", MEASURED), ("goal_time", GOAL_TIME),
-    ("stopped_velocity_tolerance", STOPPED_VELOCITY_TOLERANCE))
+    ("stopped_velocity_tolerance", STOPPED_VELOCITY_TOLERANCE),
+    ("allow_nonzero_velocity_at_trajectory_end", JAZZY.allow_nonzero_velocity_at_trajectory_end))
 CHOICES = (("platform", tuple(PLATFORMS)), ("initial_posture", POSTURES), ("driver", DRIVERS))
 LOOP_SETTINGS = ("control_rate", "velocity_report", "goal_time", "stopped_velocity_tolerance")
 
@@ -98,6 +104,7 @@ class Settings(NamedTuple):
     velocity_report: str
     goal_time: float
     stopped_velocity_tolerance: float
+    allow_nonzero_velocity_at_trajectory_end: bool
 
 
 def is_number(value: Any) -> bool:
@@ -109,8 +116,9 @@ def check_settings(values: Dict[str, Any]) -> Settings:
     for name, choices in CHOICES:
         if values[name] not in choices:
             raise ValueError("{} must be one of {} (got {!r})".format(name, ", ".join(choices), values[name]))
-    if not isinstance(values["moveto_keep_latest"], bool):
-        raise ValueError("moveto_keep_latest must be true or false (got {!r})".format(values["moveto_keep_latest"]))
+    for name in ("moveto_keep_latest", "allow_nonzero_velocity_at_trajectory_end"):
+        if not isinstance(values[name], bool):
+            raise ValueError("{} must be true or false (got {!r})".format(name, values[name]))
     if not is_number(values["feedback_rate"]) or values["feedback_rate"] < 0:
         raise ValueError("feedback_rate must be a finite number >= 0 (got {!r})".format(values["feedback_rate"]))
     check_loop_settings(**{name: values[name] for name in LOOP_SETTINGS})
@@ -137,7 +145,7 @@ def seconds(duration) -> float:
 
 def goal_points(trajectory: JointTrajectory) -> List[GoalPoint]:
     return [GoalPoint(seconds(point.time_from_start), list(point.positions), list(point.velocities),
-                      list(point.accelerations))
+                      list(point.accelerations), list(point.effort))
             for point in trajectory.points]
 
 
@@ -184,6 +192,8 @@ class SimulatedPepperNode:
                                      settings.moveto_keep_latest, settings.driver, settings.control_rate,
                                      settings.velocity_report, settings.goal_time, settings.stopped_velocity_tolerance)
         self.platform = self.model.platform
+        self.rules = JAZZY._replace(
+            allow_nonzero_velocity_at_trajectory_end=settings.allow_nonzero_velocity_at_trajectory_end)
         self._feedback_period = 1.0 / settings.feedback_rate if settings.feedback_rate > 0 else None
         self._next_feedback = 0.0
         self._goals: Dict[bytes, AcceptedGoal] = {}  # accepted, not yet ended, by goal id
@@ -210,12 +220,13 @@ class SimulatedPepperNode:
         self.timer = node.create_timer(1.0 / UPDATE_RATE, self.on_tick,
                                        callback_group=MutuallyExclusiveCallbackGroup())
         self.logger.info("platform {}, namespace {}, controllers {}, base {} ({}); control loop {:g} Hz, velocity "
-                         "report {}, goal time {:g} s, stopped velocity tolerance {:g}, driver {}".format(
+                         "report {}, goal time {:g} s, stopped velocity tolerance {:g}, driver {}, "
+                         "allow_nonzero_velocity_at_trajectory_end {}".format(
                              self.platform.name, self.platform.namespace,
                              ", ".join(controller.name for controller in self.model.controllers.values()),
                              base_topic(self.platform), self.platform.base_kind, settings.control_rate,
                              settings.velocity_report, settings.goal_time, settings.stopped_velocity_tolerance,
-                             settings.driver))
+                             settings.driver, str(settings.allow_nonzero_velocity_at_trajectory_end).lower()))
 
     def _create_publishers(self) -> None:
         node = self.node
@@ -261,12 +272,22 @@ class SimulatedPepperNode:
         return (stamp.sec * 1000000000 + stamp.nanosec - self._epoch_ns) * 1e-9
 
     # -- actions -------------------------------------------------------------------------------
+    def _controller_problem(self, controller, trajectory: JointTrajectory, points) -> str:
+        """joint_trajectory_controller's line for a trajectory it refuses, or "" (call with the lock held)."""
+        return trajectory_problem(self.rules, controller.joint_names, trajectory.joint_names, points,
+                                  self._model_stamp(trajectory.header.stamp), self._now())
+
     def on_goal_request(self, key: str, goal) -> GoalResponse:
         """As joint_trajectory_controller: a trajectory it cannot follow is rejected (no result)."""
         controller = self.model.controllers[key]
+        points = goal_points(goal.trajectory)
         with self._lock:
-            error_code, error_string = controller.validate(goal.trajectory.joint_names, goal_points(goal.trajectory))
+            problem = self._controller_problem(controller, goal.trajectory, points)
+            error_code, error_string = controller.validate(goal.trajectory.joint_names, points)
             closing = self._closing
+        if problem:
+            self.logger.error("{} rejected a goal: {}".format(controller.name, problem))
+            return GoalResponse.REJECT
         if error_code == SUCCESSFUL and not closing:
             return GoalResponse.ACCEPT
         self.logger.warning("{} rejected a goal (error code {}): {}".format(
@@ -379,12 +400,17 @@ class SimulatedPepperNode:
     def on_trajectory(self, key: str, trajectory: JointTrajectory) -> None:
         """A controller's joint_trajectory topic: obeyed like a goal, without a result."""
         controller = self.model.controllers[key]
+        points = goal_points(trajectory)
         with self._lock:
+            problem = self._controller_problem(controller, trajectory, points)
             now = self._now()
             ended = controller.update(now)
-            acceptance = controller.command(trajectory.joint_names, goal_points(trajectory), now,
-                                            self._model_stamp(trajectory.header.stamp))
+            acceptance = None if problem else controller.command(trajectory.joint_names, points, now,
+                                                                 self._model_stamp(trajectory.header.stamp))
         self._deliver(controller.name, ended)
+        if problem:
+            self.logger.error("{} ignored a {} message: {}".format(controller.name, TRAJECTORY_TOPIC_NAME, problem))
+            return
         if not acceptance.accepted:
             self.logger.warning("{} ignored a {} message: {}".format(controller.name, TRAJECTORY_TOPIC_NAME,
                                                                      acceptance.error_string))
