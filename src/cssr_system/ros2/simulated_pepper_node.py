@@ -244,7 +244,10 @@ class SimulatedPepperNode:
         self._odometry.child_frame_id = "base_footprint"
 
     def _action_server(self, key: str, callback_group) -> ActionServer:
-        return ActionServer(self.node, FollowJointTrajectory, action_namespace(self.platform, key),
+        # Resolved as the node resolves its controllers' names, remapping included: Jazzy's rcl leaves a remapping
+        # of a whole action name unapplied to an action server (Kilted's applies it), and this moves it on both.
+        name = self.node.resolve_topic_name(action_namespace(self.platform, key))
+        return ActionServer(self.node, FollowJointTrajectory, name,
                             execute_callback=self.execute,
                             goal_callback=functools.partial(self.on_goal_request, key),
                             handle_accepted_callback=functools.partial(self.on_accepted, key),
