@@ -219,3 +219,9 @@ def test_demo_with_two_robots_enables_each_on_its_own_and_plots_both(tmp_path):
 def test_demo_with_an_unknown_number_of_robots_says_so_and_fails(tmp_path):
     status, output, _ = run_demo(tmp_path, ROBOTS=3)
     assert status == 1 and "ROBOTS=3 (expected 1 or 2)" in output, output
+
+
+def test_demo_with_two_robots_fails_with_status_1_when_a_node_cannot_start(tmp_path):
+    status, output, _ = run_demo(tmp_path, DURATION=DEMO_DURATION, ROBOTS=2, NODE_ARGS="_selectedRange:=7")
+    assert status == 1, output
+    assert "selectedRange" in output and "demo: error:" in output, output
