@@ -105,7 +105,8 @@ setsid roslaunch cssr_system "${launch[@]}" \
 launch_pid=$!
 
 # What you see: the lines of the demo's nodes, errors of any node, and roslaunch's own errors.
-shown='^animateBehaviour(Demo|Recorder)|^ *[0-9]+ s  |^[A-Za-z]+: (error|invalid)|\[(ERROR|FATAL)\]|process has died'
+shown='^([A-Za-z0-9_]+/)*animateBehaviour(Demo|Recorder)|^([A-Za-z0-9_]+ )? *[0-9]+ s  '  # in a namespace: robot1/...
+shown+='|^[A-Za-z]+: (error|invalid)|\[(ERROR|FATAL)\]|process has died'
 shown+='|RLException|^ERROR|^Invalid|^Resource not found'
 (tail -n +1 -s 0.2 -f --pid="$launch_pid" "$launch_log" | grep --line-buffered -E "$shown" || true) &
 display_pid=$!

@@ -129,7 +129,8 @@ log_step "demo: animateBehaviour on the simulated Pepper, ROS 2 (domain $ROS_DOM
 : >"$run_log"
 # What you see: the lines of the demo's programs, errors of any, and the last line of a Python traceback (not
 # KeyboardInterrupt's: Ctrl-C while a program starts).
-shown='^animateBehaviour(Demo|Recorder)|^ *[0-9]+ s  |^[A-Za-z]+: (error|invalid|cannot start)|\[(ERROR|FATAL)\]'
+shown='^([A-Za-z0-9_]+/)*animateBehaviour(Demo|Recorder)|^([A-Za-z0-9_]+ )? *[0-9]+ s  '  # in a namespace: robot1/...
+shown+='|^[A-Za-z]+: (error|invalid|cannot start)|\[(ERROR|FATAL)\]'
 shown+='|^[A-Za-z_.]*(Error|Exception)\b'
 # The display ignores Ctrl-C, so it shows the run's last lines; it ends when this sleep does.
 (trap '' INT TERM; exec sleep infinity) &
@@ -228,7 +229,7 @@ if [ "$recorder_status" != 0 ]; then
   exit 1
 fi
 if [ "${#robots[@]}" = 2 ]; then  # one plot of both robots on one time axis
-  bash tools/ros2/run.sh bash -c 'PYTHONPATH="$0${PYTHONPATH:+:$PYTHONPATH}" exec python3 scripts/plotAnimation.py "$@"' \
-    "$REPO_DIR/src" "$output_dir/robot1/animation.json" "$output_dir/robot2/animation.json" -o "$output_dir/robots.png" \
-    || exit 1
+  bash tools/ros2/run.sh \
+    bash -c 'PYTHONPATH="$0${PYTHONPATH:+:$PYTHONPATH}" exec python3 scripts/plotAnimation.py "$@"' "$REPO_DIR/src" \
+    "$output_dir/robot1/animation.json" "$output_dir/robot2/animation.json" -o "$output_dir/robots.png" || exit 1
 fi

@@ -38,10 +38,14 @@ class Interrupted(Exception):
 
 class DemoRun:
     """The run; `log_file`: the node's log, where the reason for a refused enable is (None: unknown); `delay`: s
-    more at rest before the enable (a second robot enabled after the first)."""
+    more at rest before the enable (a second robot enabled after the first); `name`: the driver's resolved name,
+    which its lines begin with (in a namespace, e.g. /robot1/animateBehaviourDemo, they say which robot)."""
 
     def __init__(self, duration: float, tail: float, startup_timeout: float, log_file: Optional[str],
-                 gesture: bool = False, interaction: bool = False, delay: float = 0.0) -> None:
+                 gesture: bool = False, interaction: bool = False, delay: float = 0.0,
+                 name: str = "/" + NODE_NAME) -> None:
+        self.name = name.lstrip("/")
+        self.robot = name.strip("/").rpartition("/")[0]  # the namespace, "" at the root
         self.duration, self.tail, self.gesture, self.interaction = duration, tail, gesture, interaction
         self.delay = delay
         self.startup_timeout = startup_timeout
@@ -131,7 +135,7 @@ class DemoRun:
     def run(self) -> None:
         self.wait_for_start()
         self.pause(REST_BEFORE + self.delay)
-        say("enabling animateBehaviour for %g s (Ctrl-C stops early)" % self.duration)
+        self.say("enabling animateBehaviour for %g s (Ctrl-C stops early)" % self.duration)
         self.enable()
         enabled_at = time.monotonic()
         state = ENABLED
@@ -142,13 +146,16 @@ class DemoRun:
             elif what == DISABLE:
                 self.disable_if_enabled()
                 state = DISABLED
-                say("disabled after %g s; recording %g s more to show the stop" % (self.duration, self.tail))
+                self.say("disabled after %g s; recording %g s more to show the stop" % (self.duration, self.tail))
             elif what == GESTURE:
                 self.play_gesture()
             else:
                 names, positions, headings, heading = self.window.last(time.time(), 1.0)
-                print(status_line(int(moment), state, names, positions, headings, heading, self.yielding),
-                      flush=True)
+                line = status_line(int(moment), state, names, positions, headings, heading, self.yielding)
+                print("%s %s" % (self.robot, line) if self.robot else line, flush=True)
+
+    def say(self, text: str) -> None:
+        console.say(self.name, text)
 
 
 def write_outcome(path: str, status: int, text: str) -> None:
@@ -167,18 +174,18 @@ def drive(run: DemoRun, outcome_file: str, ending: str) -> Tuple[int, str]:
     status, text = EXIT_COMPLETED, "completed"
     try:
         run.run()
-        say("finished; stopping %s (the recorder writes the plot)" % ending)
+        run.say("finished; stopping %s (the recorder writes the plot)" % ending)
     except Interrupted:
         status, text = EXIT_INTERRUPTED, "stopped early (%s)" % run.stop_reason
     except DemoError as error:
-        say("error: %s" % error)
+        run.say("error: %s" % error)
         status, text = EXIT_FAILED, str(error)
     try:
         run.disable_if_enabled(STOP_DISABLE_TIMEOUT)  # never leave it enabled, also after an error
     except DemoError as error:
-        say("error: %s" % error)
+        run.say("error: %s" % error)
     if status == EXIT_INTERRUPTED:
-        say("%s%s; stopping %s" % (text, ": animateBehaviour disabled" if run.disabled_early else "", ending))
+        run.say("%s%s; stopping %s" % (text, ": animateBehaviour disabled" if run.disabled_early else "", ending))
     write_outcome(outcome_file, status, text)
     return status, text
 

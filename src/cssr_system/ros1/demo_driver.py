@@ -71,7 +71,7 @@ class DemoDriver(DemoRun):
                  setting: Optional[RunSetting], heading_topic: str, interaction: bool = False,
                  delay: float = 0.0) -> None:
         super().__init__(duration, tail, startup_timeout, setting.log_file if setting is not None else None,
-                         gesture, interaction, delay)
+                         gesture, interaction, delay, rospy.get_name())
         self.node = node  # the resolved name of the node driven: its service and status are under it
         self.service = contract.interface_of(node, contract.SET_ACTIVATION)
         self.recorder = recorder
@@ -85,12 +85,13 @@ class DemoDriver(DemoRun):
     # -- callbacks and stop requests ------------------------------------------------------------
     def engage(self) -> None:
         """The engaged preset, as a behaviour tree would switch to it while the robot speaks to someone."""
-        say("switching to the engaged preset: %s" % ", ".join("%s %s" % item for item in PRESETS["engaged"].items()))
+        self.say("switching to the engaged preset: %s"
+                 % ", ".join("%s %s" % item for item in PRESETS["engaged"].items()))
         try:
             client = dynamic_reconfigure.client.Client(self.node, timeout=SERVICE_CALL_TIMEOUT)
             client.update_configuration(PRESETS["engaged"])
         except Exception as error:  # the demo goes on; the plot shows that nothing changed
-            say("error: the engaged preset was not applied: %s" % error)
+            self.say("error: the engaged preset was not applied: %s" % error)
 
     def play_gesture(self) -> None:
         self._gesture_publisher.publish(Empty())
@@ -113,7 +114,7 @@ class DemoDriver(DemoRun):
         try:
             self.disable_if_enabled(STOP_DISABLE_TIMEOUT)
         except DemoError as error:
-            say("error: %s" % error)
+            self.say("error: %s" % error)
 
     # -- the node's service ---------------------------------------------------------------------
     def activate(self, state: str, timeout: float) -> str:

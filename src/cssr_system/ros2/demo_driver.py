@@ -59,7 +59,7 @@ class DemoDriver(DemoRun):
                  log_file: Optional[str], heading_topic: str, interaction: bool, delay: float = 0.0,
                  gesture: bool = False) -> None:
         super().__init__(duration, tail, startup_timeout, log_file, gesture=gesture, interaction=interaction,
-                         delay=delay)
+                         delay=delay, name=node.get_fully_qualified_name())
         self._gesture = node.create_publisher(Empty, PLAY_TOPIC, 1) if gesture else None
         self.node, self.target, self.recorder = node, target, recorder  # full names of the node and the recorder
         self.service = contract.interface_of(target, contract.SET_ACTIVATION)
@@ -92,7 +92,7 @@ class DemoDriver(DemoRun):
     def engage(self) -> None:
         """The engaged preset through the node's parameters, as a behaviour tree would switch to it."""
         preset = PRESETS["engaged"]
-        say("switching to the engaged preset: %s" % ", ".join("%s %s" % item for item in preset.items()))
+        self.say("switching to the engaged preset: %s" % ", ".join("%s %s" % item for item in preset.items()))
         request = SetParameters.Request(parameters=[Parameter(SETTING_KEYS[name], value=value).to_parameter_msg()
                                                     for name, value in preset.items()])
         try:
@@ -101,7 +101,7 @@ class DemoDriver(DemoRun):
         except TimeoutError as error:
             refused = [str(error)]
         if refused:  # the demo goes on; the plot shows that nothing changed
-            say("error: the engaged preset was not applied: %s" % "; ".join(refused))
+            self.say("error: the engaged preset was not applied: %s" % "; ".join(refused))
 
     # -- start-up -------------------------------------------------------------------------------
     def startup_waits(self) -> Sequence[Wait]:
