@@ -4,7 +4,7 @@
 # JSON goes to <workspace>/soak/soak-rosN.json and the report of both front-ends' latest runs to doc/soak-latest.md.
 #   SOAK_DURATION (minutes judged, default 60), SOAK_WARM_UP (minutes before them, not judged, default 10),
 #   SOAK_ROS (1 or 2, default 1), SOAK_SEED (the churn's, default 1), SOAK_REPORT (default doc/soak-latest.md;
-#   "" for none), SOAK_FOLDER (the run's files, default <workspace>/soak/rosN), SOAK_JSON (its result).
+#   "" for none), SOAK_DOMAIN_ID (ROS 2's; default: one no process of this machine uses), SOAK_FOLDER (the run's files, default <workspace>/soak/rosN), SOAK_JSON (its result).
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 cd "$REPO_DIR"
@@ -21,6 +21,7 @@ case $ros in
   1) python3 -m cssr_system.ros1.soak_driver "${options[@]}" ;;
   2) bash tools/ros2/setup.sh > "$results/ros2-setup.out" 2>&1 ||
        { tail -n 20 "$results/ros2-setup.out"; echo "soak: the ROS 2 side could not be made"; exit 1; }
+     export ROS_DOMAIN_ID=${SOAK_DOMAIN_ID:-$(free_ros2_domain)} ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST
      bash tools/ros2/run.sh bash -c 'PYTHONPATH="$0${PYTHONPATH:+:$PYTHONPATH}" exec python3 -m "$@"' \
        "$REPO_DIR/src" cssr_system.ros2.soak_driver "${options[@]}" ;;
   *) echo "soak: ROS must be 1 or 2, not $ros" >&2; exit 2 ;;
