@@ -4,12 +4,14 @@
 # JSON goes to <workspace>/soak/soak-rosN.json and the report of both front-ends' latest runs to doc/soak-latest.md.
 #   SOAK_DURATION (minutes judged, default 60), SOAK_WARM_UP (minutes before them, not judged, default 10),
 #   SOAK_ROS (1 or 2, default 1), SOAK_SEED (the churn's, default 1), SOAK_REPORT (default doc/soak-latest.md;
-#   "" for none), SOAK_DOMAIN_ID (ROS 2's; default: one no process of this machine uses), SOAK_FOLDER (the run's files, default <workspace>/soak/rosN), SOAK_JSON (its result).
+#   "" for none), SOAK_TRACEMALLOC (1: the node's allocations traced, a snapshot every 5 minutes in the run's folder;
+#   tools/soak_snapshots.py compares them), SOAK_DOMAIN_ID (ROS 2's; default: one no process of this machine uses), SOAK_FOLDER (the run's files, default <workspace>/soak/rosN), SOAK_JSON (its result).
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 cd "$REPO_DIR"
 prepare_workspace > /dev/null
 ros=${SOAK_ROS:-1}
+export CSSR_TRACEMALLOC=${SOAK_TRACEMALLOC:-0}
 results="$WORKSPACE_DIR/soak"
 folder=${SOAK_FOLDER:-$results/ros$ros}
 json=${SOAK_JSON:-$results/soak-ros$ros.json}

@@ -22,7 +22,8 @@ from cssr_system.demo.gesture import GESTURE_PART
 from cssr_system.msg import AnimateAction, AnimateGoal
 from cssr_system.ros1.gesture_player import GesturePlayer
 from cssr_system.ros1.trajectory_client import goal_state_name
-from cssr_system.soak.processes import BUSY, PLATFORM, SIMULATOR, Program, arguments, free_port, soak, wait_until
+from cssr_system.soak.processes import (BUSY, PLATFORM, SIMULATOR, Program, arguments, free_port, node_environment,
+                                        soak, wait_until)
 from cssr_system.srv import setActivation
 
 NODE = "/" + contract.NODE_NAME
@@ -39,7 +40,7 @@ class Ros1Driver:
                                  os.path.join(folder, "simulatedPepper.out"))
         self.node = Program(["rosrun", "cssr_system", "animateBehaviour.py", "_platform:=" + PLATFORM,
                              "_logFile:=" + self.log_file] + ["_%s:=%s" % item for item in BUSY.items()],
-                            self.output_file)
+                            self.output_file, node_environment(folder))
         self._ended = None
         self._goals = {}  # name -> actionlib goal handle
         self._lock = threading.Lock()

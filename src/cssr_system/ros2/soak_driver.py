@@ -26,7 +26,8 @@ from cssr_system.recording.recording import run_setting
 from cssr_system.ros2.gesture_player import gesture_goal
 from cssr_system.ros2.program import call
 from cssr_system.ros2.trajectory_client import STATE_NAMES
-from cssr_system.soak.processes import BUSY, PLATFORM, SIMULATOR, Program, arguments, soak, wait_until
+from cssr_system.soak.processes import (BUSY, PLATFORM, SIMULATOR, Program, arguments, node_environment, soak,
+                                        wait_until)
 
 NODE = "/" + contract.NODE_NAME
 CALL_TIMEOUT = 5.0  # s
@@ -56,7 +57,8 @@ class Ros2Driver:
         self.simulator = Program([sys.executable, "-m", "cssr_system.ros2.simulated_pepper_node"]
                                  + ros_arguments(SIMULATOR), os.path.join(folder, "simulatedPepper.out"))
         self.node = Program([sys.executable, "-m", "cssr_system.ros2.animate_behaviour_main"]
-                            + ros_arguments(dict(BUSY, platform=PLATFORM, logFile=self.log_file)), self.output_file)
+                            + ros_arguments(dict(BUSY, platform=PLATFORM, logFile=self.log_file)), self.output_file,
+                            node_environment(folder))
         self._activation = node.create_client(SetActivation, NODE + "/" + contract.SET_ACTIVATION)
         self._parameters = node.create_client(SetParameters, NODE + "/set_parameters")
         self._animate = ActionClient(node, Animate, NODE + "/" + contract.ANIMATE_ACTION)

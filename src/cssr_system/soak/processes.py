@@ -21,6 +21,16 @@ PLATFORM = "robot"
 SIMULATOR = {"platform": PLATFORM, "velocity_report": "commanded"}
 BUSY = {"behaviour": "all", "gestureDuration": 0.5, "numPoints": 2, "legRepeatFactor": 1, "numPointsLeg": 1}
 STOP_TIMEOUT = 10.0  # s for a process to exit after SIGINT before it is killed
+TRACING = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "tools", "soak_tracemalloc")
+
+
+def node_environment(folder: str) -> Optional[dict]:
+    """The node's environment: this process's, and with CSSR_TRACEMALLOC=1 its allocations traced and snapshots
+    written to `folder` (tools/soak_tracemalloc); None: this process's as it is."""
+    if os.environ.get("CSSR_TRACEMALLOC", "0") != "1":
+        return None
+    python_path = os.pathsep.join(filter(None, (os.path.abspath(TRACING), os.environ.get("PYTHONPATH"))))
+    return dict(os.environ, PYTHONPATH=python_path, CSSR_TRACEMALLOC_DIR=folder)
 
 
 class Program:
