@@ -12,7 +12,7 @@ from typing import Callable, List, Optional, Sequence
 
 from cssr_system.soak.report import text
 from cssr_system.soak.run import SoakRun, write_json
-from cssr_system.soak.schedule import churn_schedule
+from cssr_system.soak.schedule import RESTART_PERIOD, churn_schedule
 
 # The busy configuration: a new goal on every part about every second, on the robot's interfaces (hands included).
 PLATFORM = "robot"
@@ -83,6 +83,8 @@ def arguments(argv: List[str]) -> argparse.Namespace:
     parser.add_argument("--minutes", type=float, default=60.0, help="minutes judged, after the warm-up")
     parser.add_argument("--warm-up", type=float, default=10.0, help="minutes of warm-up, not judged")
     parser.add_argument("--seed", type=int, default=1, help="the churn's random seed")
+    parser.add_argument("--restart-minutes", type=float, default=RESTART_PERIOD / 60.0,
+                        help="minutes between restarts of the simulated Pepper (the first at half of it)")
     parser.add_argument("--folder", required=True, help="the run's folder: output of every process, the log")
     parser.add_argument("--json", required=True, help="the run's result")
     return parser.parse_args(argv)
@@ -97,7 +99,7 @@ def soak(driver, options: argparse.Namespace, ros: str) -> int:
 
     def checkpoint(result: dict) -> None:
         write_json(options.json, dict(result, **document))
-    run = SoakRun(driver, churn_schedule(seconds, options.seed), seconds, warm_up,
+    run = SoakRun(driver, churn_schedule(seconds, options.seed, 60.0 * options.restart_minutes), seconds, warm_up,
                   progress=lambda line: print(line, flush=True), checkpoint=checkpoint)
     result = dict(run.run(), **document)
     write_json(options.json, result)

@@ -46,11 +46,11 @@ def _spells(seconds: float, rng: random.Random) -> List[Tuple[float, float, bool
     return spells
 
 
-def restart_times(seconds: float) -> List[float]:
-    times, at = [], RESTART_PERIOD / 2.0
+def restart_times(seconds: float, period: float = RESTART_PERIOD) -> List[float]:
+    times, at = [], period / 2.0
     while at < seconds:
         times.append(at)
-        at += RESTART_PERIOD
+        at += period
     return times
 
 
@@ -75,10 +75,10 @@ def _animate_steps(start: float, number: int, kind: str) -> List[Step]:
                                         "parts": ["arms"], "expect": SUCCEEDED_REASON})]
 
 
-def churn_schedule(seconds: float, seed: int = 1) -> List[Step]:
-    """Every step of a run of `seconds`, in time order."""
+def churn_schedule(seconds: float, seed: int = 1, restart_period: float = RESTART_PERIOD) -> List[Step]:
+    """Every step of a run of `seconds`, in time order (the simulated Pepper restarted every `restart_period` s)."""
     rng = random.Random(seed)
-    restarts = restart_times(seconds)
+    restarts = restart_times(seconds, restart_period)
     steps = [Step(at, RESTART, {}) for at in restarts]
     animated = 0
     for start, end, enabled in _spells(seconds, rng):
