@@ -4,10 +4,10 @@ Python: no ROS."""
 import argparse
 import os
 import signal
-import socket
 import subprocess
 import sys
 import time
+from socket import socket as tcp_socket
 from typing import Callable, List, Optional, Sequence
 
 from cssr_system.soak.report import text
@@ -73,7 +73,7 @@ def wait_until(condition: Callable[[], bool], timeout: float, period: float = 0.
 
 
 def free_port() -> int:
-    with socket.socket() as probe:
+    with tcp_socket() as probe:
         probe.bind(("localhost", 0))
         return probe.getsockname()[1]
 
