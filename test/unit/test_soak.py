@@ -30,7 +30,8 @@ def test_the_schedule_churns_as_described_and_keeps_goals_clear_of_restarts():
     assert all(abs(step.at - restart) >= schedule.CLEARANCE for step in goals for restart in restarts)
     expected = {step.detail.get("expect") for step in goals}
     assert expected == {None, "duration elapsed", "cancelled", "replaced"}
-    assert len([step for step in steps if step.action == schedule.GESTURE]) >= 50
+    gestures = [step.at for step in steps if step.action == schedule.GESTURE]
+    assert len(gestures) >= 50 and all(at % 10.0 == 5.0 for at in gestures), "between two live settings"
 
 
 def test_animate_goals_fall_in_disabled_spells_and_every_cancel_names_a_goal_sent_before_it():
@@ -85,7 +86,7 @@ def test_a_flat_run_meets_every_target():
     ({"goals": {"animate-0": {"expect": "replaced", "sent": 3.0}}},
      "animate goals and gestures not ending as expected"),
     ({"gone_wrong": [[900.0, "RArm", "ABORTED", False]]}, "node goals aborted or lost, not by a restart"),
-    ({"gone_wrong": [[900.0, "RArm", "REJECTED", False]]}, "node goals rejected"),
+    ({"gone_wrong": [[900.0, "RArm", "REJECTED", False]]}, "node goals rejected, not by a restart"),
 ])
 def test_each_target_fails_on_its_own(changes, failing):
     verdicts = met(result_of(**changes))
@@ -94,9 +95,10 @@ def test_each_target_fails_on_its_own(changes, failing):
         [], ["replies p99, worst 10-minute window"])
 
 
-def test_an_abort_a_restart_provoked_counts_for_nothing():
-    assert met(result_of(gone_wrong=[[905.0, "RArm", "LOST", True]]))[
-        "node goals aborted or lost, not by a restart"] is True
+def test_an_abort_or_a_rejection_a_restart_provoked_counts_for_nothing():
+    verdicts = met(result_of(gone_wrong=[[905.0, "RArm", "LOST", True], [905.0, "RArm", "REJECTED", True]]))
+    assert verdicts["node goals aborted or lost, not by a restart"] is True
+    assert verdicts["node goals rejected, not by a restart"] is True
 
 
 def test_the_warm_up_is_not_judged():

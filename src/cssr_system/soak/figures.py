@@ -20,7 +20,7 @@ class Target(NamedTuple):
 
 TARGETS = (Target("resident memory growth", "MB/h", 0.5), Target("threads, max - min", "", 4),
            Target("open files, max - min", "", 8), Target("log and its rotated copy, largest", "MB", LOG_BOUND / 1e6),
-           Target("tracebacks", "", 0), Target("node goals rejected", "", 0),
+           Target("tracebacks", "", 0), Target("node goals rejected, not by a restart", "", 0),
            Target("node goals aborted or lost, not by a restart", "", 0),
            Target("animate goals and gestures not ending as expected", "", 0),
            Target("replies p99", "ms", 50), Target("replies p99, worst 10-minute window", "ms", 50))
@@ -85,7 +85,7 @@ def figures(result: dict) -> dict:
     values = [slope_per_hour([sample["t"] for sample in samples], [sample["resident memory"] for sample in samples]),
               spread(samples, "threads"), spread(samples, "open files"),
               max(sample["log bytes"] for sample in result["samples"]) / 1e6 if result["samples"] else None,
-              result["tracebacks"], sum(state == "REJECTED" for _, _, state, _ in gone_wrong),
+              result["tracebacks"], sum(state == "REJECTED" and not provoked for _, _, state, provoked in gone_wrong),
               sum(state != "REJECTED" and not provoked for _, _, state, provoked in gone_wrong),
               len(unexpected_ends(result)), None if p99 is None else 1000.0 * p99,
               None if worst is None else 1000.0 * worst]

@@ -23,7 +23,7 @@ from cssr_system.soak.process_figures import cpu_seconds, log_bytes, process_fig
 from cssr_system.soak.schedule import (ANIMATE, CANCEL, DISABLE, ENABLE, GESTURE, RESTART, SETTING, Step)
 
 SAMPLE_PERIOD = 10.0  # s between samples of the node's process
-PROVOKED_AFTER_RESTART = 15.0  # s after a restart in which a goal's abort or loss is the restart's doing
+PROVOKED_AFTER_RESTART = 15.0  # s after a restart in which a goal's rejection, abort or loss is the restart's doing
 SETTLE = 15.0  # s the run waits at its end for goals still under way
 
 
@@ -182,7 +182,8 @@ class SoakRun:
         self._restart_thread.start()
 
     def provoked(self, at: float) -> bool:
-        """Whether a goal that went wrong at `at` is a restart's doing."""
+        """Whether a goal that went wrong at `at` is a restart's doing (a controller shutting down aborts its goal and
+        rejects the next; one gone leaves its goals without a result)."""
         return any(start - 1.0 <= at <= (end if end is not None else at) + PROVOKED_AFTER_RESTART
                    for start, end in self._restarts)
 
@@ -207,8 +208,7 @@ class SoakRun:
                 self.errors += 1
             elif entry.event == contract.GOAL_FINISHED and entry.fields.get("state") in (ABORTED, REJECTED, LOST):
                 at = entry.timestamp.timestamp() - self._wall_start
-                self.node_goals.append([at, entry.fields.get("part"), entry.fields["state"],
-                                        entry.fields["state"] != REJECTED and self.provoked(at)])
+                self.node_goals.append([at, entry.fields.get("part"), entry.fields["state"], self.provoked(at)])
 
     def result(self) -> dict:
         return {"seconds": self.seconds, "warm up": self.warm_up, "sample period": self.sample_period,

@@ -4,7 +4,7 @@ every step at its time from the start, drawn from a seeded random generator, so 
 - a live setting every 10 s, in turn intensity, tempo, style and the parts switches;
 - in every disabled spell an animate goal: with a duration (it succeeds), until cancelled (cancelled after 4 s) or
   replaced after 3 s by one with a duration (the first ends "replaced", the second succeeds);
-- another node's gesture on the right arm every minute (it succeeds: the node yields);
+- another node's gesture on the right arm every minute, 5 s after a live setting (it succeeds: the node yields);
 - the simulated Pepper restarted every 10 minutes (its controllers and the base's listener leave and come back),
   with no animate goal or gesture within 15 s of it, so that every one of them has one expected end.
 Pure Python: no ROS.
@@ -17,7 +17,7 @@ ENABLE, DISABLE, SETTING, ANIMATE, CANCEL, GESTURE, RESTART = (
 SUCCEEDED_REASON, CANCELLED_REASON, REPLACED_REASON = "duration elapsed", "cancelled", "replaced"
 SPELL = (15.0, 30.0)  # s of each enabled or disabled spell
 SETTING_PERIOD = 10.0  # s between live settings
-GESTURE_PERIOD = 60.0  # s between another node's gestures; the first at half of it
+GESTURE_PERIOD = 60.0  # s between another node's gestures; the first at half of it and 5 s (between two settings)
 RESTART_PERIOD = 600.0  # s between restarts of the simulated Pepper; the first at half of it
 CLEARANCE = 15.0  # s kept between a restart and any animate goal or gesture
 ANIMATE_SPAN = 12.0  # s from an animate goal's start to the end of its last goal, at most
@@ -93,7 +93,8 @@ def churn_schedule(seconds: float, seed: int = 1, restart_period: float = RESTAR
         name, value = SETTINGS[index % len(SETTINGS)]
         steps.append(Step(at, SETTING, {"name": name, "value": value}))
         at, index = at + SETTING_PERIOD, index + 1
-    at, played = GESTURE_PERIOD / 2.0, 0
+    # Not at the instant of a live setting: the node's new goals would race the gesture's to the controller.
+    at, played = GESTURE_PERIOD / 2.0 + SETTING_PERIOD / 2.0, 0
     while at < seconds:
         if _clear_of(at, at + ANIMATE_SPAN, restarts):
             steps.append(Step(at, GESTURE, {"goal": "gesture-%d" % played}))
