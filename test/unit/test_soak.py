@@ -107,6 +107,13 @@ def test_the_warm_up_is_not_judged():
     assert met(result)["threads, max - min"] is True
 
 
+def test_an_abort_of_the_gesture_part_right_after_a_gesture_or_anything_after_a_restart_is_the_churn_s(tmp_path):
+    run = SoakRun(FakeDriver(tmp_path), [], 1.0, 0.0, progress=lambda line: None)
+    run._gestures, run._restarts = [100.0], [[300.0, 303.0]]
+    assert run.provoked(100.5, "RArm") and not run.provoked(100.5, "LArm") and not run.provoked(103.0, "RArm")
+    assert run.provoked(310.0, "Leg") and not run.provoked(330.0, "Leg")
+
+
 def test_the_log_is_read_once_across_a_rotation(tmp_path):
     path = str(tmp_path / "node.log")
     log = EventLog(path, max_bytes=600)
@@ -184,7 +191,7 @@ def test_a_run_plays_the_schedule_samples_the_process_and_sets_each_end_beside_t
     assert len(result["samples"]) >= 5 and result["samples"][0]["threads"] >= 1 and checkpoints
     assert [reply[1] for reply in result["replies"]] == ["enable", "setting"]
     assert figures.unexpected_ends(result) == ["gesture-0: expected SUCCEEDED, got ABORTED"]
-    assert [row[2] for row in result["node goals gone wrong"]] == ["ABORTED"]
+    assert [row[2:] for row in result["node goals gone wrong"]] == [["ABORTED", False]]
     text = report.text(result)
     assert "animate goals and gestures not ending as expected" in text and "NO" in text
 

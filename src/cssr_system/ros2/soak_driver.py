@@ -18,6 +18,7 @@ from rcl_interfaces.srv import SetParameters
 from rclpy.action import ActionClient
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
+from rclpy.signals import SignalHandlerOptions
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.live_settings import SETTING_KEYS
@@ -133,9 +134,10 @@ class Ros2Driver:
         wait_until(lambda: self._gesture.server_is_ready(), START_TIMEOUT)
 
     def stop(self) -> None:
+        """The node disabled and stopped, then the simulated Pepper, also after a failure of the run."""
         try:
             self.activate(contract.DISABLED)
-        except TimeoutError as error:
+        except Exception as error:  # noqa: BLE001 - the processes are stopped all the same
             print("soak: the last disable failed: %s" % error)
         self.node.stop()
         self.simulator.stop()
@@ -144,7 +146,7 @@ class Ros2Driver:
 def main(argv=None) -> int:
     options = arguments(sys.argv[1:] if argv is None else argv)
     os.makedirs(options.folder, exist_ok=True)
-    rclpy.init()
+    rclpy.init(signal_handler_options=SignalHandlerOptions.NO)  # Ctrl-C ends the run, and its processes with it
     node = Node("animateBehaviourSoak")
     executor = SingleThreadedExecutor()
     executor.add_node(node)

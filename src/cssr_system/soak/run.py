@@ -19,12 +19,16 @@ from typing import Callable, Dict, List, Optional
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.event_log import parse_log_line
 from cssr_system.core.goals import ABORTED, LOST, REJECTED
+from cssr_system.demo.gesture import GESTURE_PART
 from cssr_system.soak.process_figures import cpu_seconds, log_bytes, process_figures
 from cssr_system.soak.schedule import (ANIMATE, CANCEL, DISABLE, ENABLE, GESTURE, RESTART, SETTING, Step)
 
 SAMPLE_PERIOD = 10.0  # s between samples of the node's process
 PROVOKED_AFTER_RESTART = 15.0  # s after a restart in which a goal's rejection, abort or loss is the restart's doing
 SETTLE = 15.0  # s the run waits at its end for goals still under way
+# s around another node's gesture in which the end of the node's goal on that part is the gesture's doing: on ROS 2
+# joint_trajectory_controller aborts the goal a newer one replaces.
+GESTURE_WINDOW = (-0.5, 2.0)
 
 
 class LogTail:
@@ -92,6 +96,7 @@ class SoakRun:
         self.node_goals: List[list] = []  # [s from the start, part, state, provoked]: the node's goals gone wrong
         self.errors = 0
         self._restarts: List[list] = []  # [start, end or None]
+        self._gestures: List[float] = []  # when each gesture was sent
         self._lock = threading.Lock()
         self._start = 0.0
         self._wall_start = 0.0
@@ -154,6 +159,7 @@ class SoakRun:
             if step.action == ANIMATE:
                 self.driver.send_animate(step.detail["goal"], step.detail)
             else:
+                self._gestures.append(at)
                 self.driver.play_gesture(step.detail["goal"])
         elif step.action == CANCEL:
             self.driver.cancel_animate(step.detail["goal"])
@@ -181,11 +187,12 @@ class SoakRun:
         self._restart_thread = threading.Thread(target=restart, name="restart", daemon=True)
         self._restart_thread.start()
 
-    def provoked(self, at: float) -> bool:
-        """Whether a goal that went wrong at `at` is a restart's doing (a controller shutting down aborts its goal and
-        rejects the next; one gone leaves its goals without a result)."""
+    def provoked(self, at: float, part: str) -> bool:
+        """Whether the goal of `part` that went wrong at `at` is the churn's doing: a restart's (a controller shutting
+        down aborts its goal and rejects the next; one gone leaves its goals without a result) or a gesture's."""
         return any(start - 1.0 <= at <= (end if end is not None else at) + PROVOKED_AFTER_RESTART
-                   for start, end in self._restarts)
+                   for start, end in self._restarts) or (part == GESTURE_PART and any(
+                       sent + GESTURE_WINDOW[0] <= at <= sent + GESTURE_WINDOW[1] for sent in self._gestures))
 
     def sample(self) -> None:
         pid = self.driver.node_pid()
@@ -208,7 +215,8 @@ class SoakRun:
                 self.errors += 1
             elif entry.event == contract.GOAL_FINISHED and entry.fields.get("state") in (ABORTED, REJECTED, LOST):
                 at = entry.timestamp.timestamp() - self._wall_start
-                self.node_goals.append([at, entry.fields.get("part"), entry.fields["state"], self.provoked(at)])
+                part = entry.fields.get("part")
+                self.node_goals.append([at, part, entry.fields["state"], self.provoked(at, part)])
 
     def result(self) -> dict:
         return {"seconds": self.seconds, "warm up": self.warm_up, "sample period": self.sample_period,
