@@ -196,6 +196,12 @@ def test_a_run_plays_the_schedule_samples_the_process_and_sets_each_end_beside_t
     assert "animate goals and gestures not ending as expected" in text and "NO" in text
 
 
+def test_the_enabled_spells_are_shaded_from_each_enable_to_the_next_disable():
+    marks = [[60.0, "enable", {}], [90.0, "setting", {}], [120.0, "disable", {}], [180.0, "enable", {}],
+             [240.0, "setting", {}]]
+    assert report.enabled_spans(marks) == [(1.0, 2.0), (3.0, 4.0)]
+
+
 def test_the_report_page_and_its_plot(tmp_path):
     result = result_of(rss_growth_per_hour=0.2)
     result["marks"] += [[300.0, schedule.RESTART, {}], [330.0, schedule.GESTURE, {"goal": "gesture-0"}]]

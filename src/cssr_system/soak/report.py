@@ -12,7 +12,7 @@ import sys
 from typing import Dict, List
 
 from cssr_system.soak.figures import context, number, table
-from cssr_system.soak.schedule import GESTURE, RESTART
+from cssr_system.soak.schedule import DISABLE, ENABLE, GESTURE, RESTART
 
 
 def text(result: dict) -> str:
@@ -68,8 +68,8 @@ def process_text(about: dict) -> str:
 
 
 def plot(result: dict, path: str) -> str:
-    """Resident memory, CPU and threads over time (minutes), restarts as red lines, gestures as grey ticks and the
-    end of the warm-up dashed."""
+    """Resident memory, CPU and threads over time (minutes), the enabled spells shaded, restarts as red lines,
+    gestures as grey ticks and the end of the warm-up dashed."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as pyplot
@@ -82,17 +82,38 @@ def plot(result: dict, path: str) -> str:
         axis.plot([at for at, _ in points], [value for _, value in points], linewidth=1.0)
         axis.set_ylabel(label)
         axis.axvline(result["warm up"] / 60.0, color="black", linestyle="--", linewidth=0.8)
-        for at, action, _detail in result["marks"]:
-            if action == RESTART:
-                axis.axvline(at / 60.0, color="red", linewidth=0.8, alpha=0.6)
-            elif action == GESTURE:
-                axis.axvline(at / 60.0, color="grey", linewidth=0.4, alpha=0.3)
-    axes[-1].set_xlabel("minutes (dashed: end of the warm-up; red: simulated Pepper restarted; grey: gestures)")
+        _mark_churn(axis, result)
+    axes[-1].set_xlabel("minutes (dashed: end of the warm-up; green: enabled; red: simulated Pepper restarted; "
+                        "grey: gestures)", fontsize=8)
     figure.suptitle("animateBehaviour soak, ROS %s" % result.get("ros", "?"))
     figure.tight_layout()
     figure.savefig(path, dpi=80)
     pyplot.close(figure)
     return path
+
+
+def enabled_spans(marks) -> List[tuple]:
+    """(start, end) in minutes of each spell between an enable and the next disable (or the last mark)."""
+    spans, since = [], None
+    for at, action, _detail in marks:
+        if action == ENABLE and since is None:
+            since = at
+        elif action == DISABLE and since is not None:
+            spans.append((since / 60.0, at / 60.0))
+            since = None
+    if since is not None and marks:
+        spans.append((since / 60.0, marks[-1][0] / 60.0))
+    return spans
+
+
+def _mark_churn(axis, result: dict) -> None:
+    for start, end in enabled_spans(result["marks"]):
+        axis.axvspan(start, end, color="green", alpha=0.08, linewidth=0)
+    for at, action, _detail in result["marks"]:
+        if action == RESTART:
+            axis.axvline(at / 60.0, color="red", linewidth=0.8, alpha=0.6)
+        elif action == GESTURE:
+            axis.axvline(at / 60.0, color="grey", linewidth=0.4, alpha=0.3)
 
 
 def main(argv: List[str]) -> int:
