@@ -210,3 +210,6 @@ def test_the_report_page_and_its_plot(tmp_path):
     page = report.markdown({"1": result, "2": result_of()}, {"1": "soak.png"})
     assert page.count("| resident memory growth (MB/h) |") == 2
     assert "## ROS 1" in page and "## ROS 2" in page and "![" in page
+    assert "cut short" not in page
+    result["samples"] = result["samples"][:200]
+    assert "70 minutes were planned" in report.markdown({"1": result}, {}).replace("(cut short: ", "")

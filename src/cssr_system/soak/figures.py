@@ -101,13 +101,15 @@ def verdicts(result: dict) -> List[tuple]:
 
 
 def context(result: dict) -> dict:
-    """What else the run tells: its length, the process figures at the start and at the end, the churn done."""
+    """What else the run tells: its length so far (a run cut short tells its checkpoint's), the process figures at
+    the start and at the end, the churn done."""
     samples = result["samples"]
     cpu = [sample["cpu"] for sample in judged_samples(result) if sample["cpu"] is not None]
     actions = {}
     for _at, action, _detail in result["marks"]:
         actions[action] = actions.get(action, 0) + 1
-    return {"minutes": result["seconds"] / 60.0, "warm-up minutes": result["warm up"] / 60.0,
+    return {"minutes": samples[-1]["t"] / 60.0 if samples else 0.0, "planned minutes": result["seconds"] / 60.0,
+            "warm-up minutes": result["warm up"] / 60.0,
             "first": samples[0] if samples else None, "last": samples[-1] if samples else None,
             "cpu mean": sum(cpu) / len(cpu) if cpu else None, "churn": actions,
             "replies": len(result["replies"]), "failed replies": sum(not reply[3] for reply in result["replies"]),

@@ -20,10 +20,17 @@ def text(result: dict) -> str:
     rows = [("figure", "value", "target", "met?")] + table(result)
     widths = [max(len(row[column]) for row in rows) for column in range(3)]
     about = context(result)
-    lines = ["soak, ROS %s: %g minutes (%g of warm-up, not judged), %s" % (
-        result.get("ros", "?"), about["minutes"], about["warm-up minutes"], churn_text(about))]
+    lines = ["soak, ROS %s: %s, %s" % (result.get("ros", "?"), length_text(about), churn_text(about))]
     lines += ["  ".join(cell.ljust(width) for cell, width in zip(row, widths)) + "  " + row[3] for row in rows]
     return "\n".join(lines)
+
+
+def length_text(about: dict) -> str:
+    """How long the run went, its warm-up, and whether it was cut short."""
+    text = "%.0f minutes, of which %g of warm-up are not judged" % (about["minutes"], about["warm-up minutes"])
+    if about["minutes"] < about["planned minutes"] - 0.5:
+        text += " (cut short: %g were planned)" % about["planned minutes"]
+    return text
 
 
 def churn_text(about: dict) -> str:
@@ -43,9 +50,8 @@ def markdown(results: Dict[str, dict], plots: Dict[str, str]) -> str:
         result = results[ros]
         about = context(result)
         lines += ["## ROS %s" % ros, "",
-                  "- %s, %s, %s cores; %g minutes, of which %g of warm-up are not judged" % (
-                      result.get("started", "?"), result.get("configuration", "?"), result.get("cores", "?"),
-                      about["minutes"], about["warm-up minutes"]),
+                  "- %s, %s, %s cores; %s" % (result.get("started", "?"), result.get("configuration", "?"),
+                                              result.get("cores", "?"), length_text(about)),
                   "- churn: " + churn_text(about),
                   "- process at the start and at the end: " + process_text(about),
                   "- node goals aborted or lost by a restart of the simulated Pepper: %d; error events in the log: %d"
