@@ -54,7 +54,8 @@ def markdown(results: Dict[str, dict], plots: Dict[str, str]) -> str:
                                               result.get("cores", "?"), length_text(about)),
                   "- churn: " + churn_text(about),
                   "- process at the start and at the end: " + process_text(about),
-                  "- node goals aborted or lost by a restart of the simulated Pepper: %d; error events in the log: %d"
+                  "- node goals rejected, aborted or lost by the churn (a restart, a gesture): %d; error events in the "
+                  "log: %d"
                   % (about["provoked"], about["log errors"]), "",
                   "| figure | value | target | met |", "|---|---|---|---|"]
         lines += ["| %s | %s | %s | %s |" % row for row in table(result)]
