@@ -1,5 +1,5 @@
 # The two commands of the README, and the steps they are made of.
-.PHONY: demo test benchmark motion-report setup build clean
+.PHONY: demo test benchmark soak motion-report setup build clean
 
 # make demo DURATION=10 PLATFORM=simulator BEHAVIOUR=hands OUTPUT_DIR=/tmp/demo GESTURE=1
 #           STYLE=breathing DRIVER=naoqi_dcm NODE_ARGS="_gestureDuration:=1.5" SIM_ARGS="..." INTERACTION=1
@@ -21,6 +21,12 @@ BENCHMARK_OPTIONS := CYCLES CPU_WINDOW EXIT_RUNS PLATFORMS JSON SOAK GROWTH_CYCL
 benchmark:
 	$(foreach option,$(BENCHMARK_OPTIONS),$(if $(filter command line,$(origin $(option))),BENCHMARK_$(option)='$(subst ','\'',$($(option)))')) \
 	bash tools/benchmark.sh
+
+# make soak DURATION=60 WARM_UP=10 ROS=1|2 SEED=1 TRACEMALLOC=1 (or SOAK_DURATION, ... in the environment): doc/soak.md.
+SOAK_OPTIONS := DURATION WARM_UP ROS SEED TRACEMALLOC
+soak:
+	$(foreach option,$(SOAK_OPTIONS),$(if $(filter command line,$(origin $(option))),SOAK_$(option)='$(subst ','\'',$($(option)))')) \
+	bash tools/soak.sh
 
 # What a person sees of each motion style: ideal, through pepper_dcm, through joint_angles (README: "Motion styles").
 motion-report:

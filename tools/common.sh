@@ -51,3 +51,19 @@ prepare_workspace() {
   export ROS_HOSTNAME=${ROS_HOSTNAME:-localhost}
   mkdir -p "$ROS_HOME"
 }
+
+# A ROS_DOMAIN_ID that no process of this machine has in its environment (so not another demo's, soak's or test's), of
+# 1-101 (0 is ROS 2's default, which a simulator started by hand uses); at random, so two demos starting together
+# are unlikely to pick the same.
+free_ros2_domain() {
+  python3 -c '
+import os, random
+used = set()
+for pid in filter(str.isdigit, os.listdir("/proc")):
+    try:
+        with open("/proc/%s/environ" % pid, "rb") as environment:
+            used.update(entry[14:] for entry in environment.read().split(b"\0") if entry.startswith(b"ROS_DOMAIN_ID="))
+    except OSError:
+        pass
+print(random.choice([domain for domain in range(1, 102) if str(domain).encode() not in used] or [0]))'
+}

@@ -77,22 +77,7 @@ outcome_file="$output_dir/demo_outcome.txt"
 log_file="$output_dir/animateBehaviourLogFile.log"
 rm -f "$outcome_file"
 
-# A ROS_DOMAIN_ID that no process of this machine has in its environment (so not another demo's or a test's), of
-# 1-101 (0 is ROS 2's default, which a simulator started by hand uses); at random, so two demos starting together
-# are unlikely to pick the same.
-free_domain() {
-  python3 -c '
-import os, random
-used = set()
-for pid in filter(str.isdigit, os.listdir("/proc")):
-    try:
-        with open("/proc/%s/environ" % pid, "rb") as environment:
-            used.update(entry[14:] for entry in environment.read().split(b"\0") if entry.startswith(b"ROS_DOMAIN_ID="))
-    except OSError:
-        pass
-print(random.choice([domain for domain in range(1, 102) if str(domain).encode() not in used] or [0]))'
-}
-export ROS_DOMAIN_ID=${DEMO_DOMAIN_ID:-$(free_domain)}
+export ROS_DOMAIN_ID=${DEMO_DOMAIN_ID:-$(free_ros2_domain)}
 # Whole lines into the shared log: each program flushes its lines itself (unbuffered output would split them).
 export ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST RCUTILS_COLORIZED_OUTPUT=0
 

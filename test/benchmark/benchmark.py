@@ -40,6 +40,7 @@ from cssr_system.animate_behaviour.topics import load_topic_map  # noqa: E402
 from cssr_system.core.joint_states import REST_DELAY  # noqa: E402
 from cssr_system.msg import AnimateBehaviourStatus  # noqa: E402
 from cssr_system.pepper.joint_table import PARTS  # noqa: E402
+from cssr_system.soak.process_figures import cpu_seconds, log_bytes, process_figures  # noqa: E402
 from cssr_system.srv import setActivation  # noqa: E402
 
 NODE = "/" + NODE_NAME
@@ -92,19 +93,6 @@ def free_port() -> int:
     with socket.socket() as probe:
         probe.bind(("localhost", 0))
         return probe.getsockname()[1]
-
-
-def process_figures(pid: int) -> dict:
-    with open("/proc/%d/status" % pid) as stream:
-        rss = next(int(line.split()[1]) for line in stream if line.startswith("VmRSS:")) / 1024.0
-    return {"resident memory": rss, "threads": len(os.listdir("/proc/%d/task" % pid)),
-            "open files": len(os.listdir("/proc/%d/fd" % pid))}
-
-
-def cpu_seconds(pid: int) -> float:
-    with open("/proc/%d/stat" % pid) as stream:
-        fields = stream.read().rsplit(")", 1)[1].split()
-    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")  # utime + stime
 
 
 def cpu_shares(pid: int, seconds: float, figures: dict, slices: int = 4) -> list:
@@ -409,10 +397,6 @@ def results_of(raw: dict) -> dict:
             figures[name] = figure
         results[subject] = figures
     return results
-
-
-def log_bytes(log: str) -> int:
-    return sum(os.path.getsize(name) for name in (log, log + ".1") if os.path.exists(name))
 
 
 def soak(benchmark: Benchmark, seconds: float, growth_cycles: int) -> dict:

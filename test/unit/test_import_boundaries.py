@@ -25,7 +25,7 @@ FLOORS = {"package_files": 0, "pepper": 0,
           "animate_behaviour": 1,
           "motion": 2,
           "core": 3,
-          "recording": 4, "harness": 5, "demo": 5,
+          "recording": 4, "harness": 5, "demo": 5, "soak": 5,
           "ros1": 6, "ros2": 6}
 
 

@@ -1,0 +1,37 @@
+"""The 3-minute soak of `make test` (doc/soak.md), shared by both front-ends' tests: `make soak` for 3 minutes (30 s
+of warm-up, the simulated Pepper restarted once, at 1 minute) with generous bounds: no traceback, no goal of the node
+rejected (but by the restart), no reply failed, threads and open files flat, and another node's gesture succeeding
+(one may lose a race to the controller: doc/soak.md)."""
+import json
+import os
+import subprocess
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[2]
+WARM_UP, MINUTES, RESTART_MINUTES = 0.5, 2.5, 2.0
+THREAD_SPREAD, OPEN_FILE_SPREAD = 6, 12  # generous: the 60-minute targets are 4 and 8
+
+
+def run_soak(ros: str, folder: Path, **environment) -> subprocess.CompletedProcess:
+    values = dict(os.environ, SOAK_ROS=ros, SOAK_DURATION=str(MINUTES), SOAK_WARM_UP=str(WARM_UP),
+                  SOAK_RESTART_MINUTES=str(RESTART_MINUTES), SOAK_FOLDER=str(folder / "run"),
+                  SOAK_JSON=str(folder / "soak.json"), SOAK_REPORT="", **environment)
+    return subprocess.run(["bash", "tools/soak.sh"], cwd=str(REPO), env=values, stdout=subprocess.PIPE,
+                          stderr=subprocess.STDOUT, universal_newlines=True, timeout=600)
+
+
+def check(finished: subprocess.CompletedProcess, folder: Path) -> None:
+    assert finished.returncode == 0, finished.stdout[-3000:]
+    result = json.loads((folder / "soak.json").read_text())
+    judged = [sample for sample in result["samples"] if sample["t"] >= result["warm up"]]
+    assert len(judged) >= 12, finished.stdout[-3000:]
+    assert result["tracebacks"] == 0, (folder / "run" / "node.out").read_text()[-3000:]
+    assert [entry for entry in result["node goals gone wrong"] if entry[2] == "REJECTED" and not entry[3]] == [], \
+        "no goal rejected but by the restart"
+    assert [reply for reply in result["replies"] if not reply[3]] == [], "every reply a success"
+    assert len(result["restarts"]) == 1 and result["restarts"][0][1] is not None, "the simulated Pepper restarted"
+    for key, bound in (("threads", THREAD_SPREAD), ("open files", OPEN_FILE_SPREAD)):
+        values = [sample[key] for sample in judged]
+        assert max(values) - min(values) <= bound, (key, values)
+    gestures = {name: goal for name, goal in result["goals"].items() if name.startswith("gesture")}
+    assert any(goal.get("status") == "SUCCEEDED" for goal in gestures.values()), gestures
