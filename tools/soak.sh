@@ -20,16 +20,17 @@ folder=${SOAK_FOLDER:-$results/ros$ros}
 json=${SOAK_JSON:-$results/soak-ros$ros.json}
 rm -rf "$folder"
 mkdir -p "$folder" "$(dirname "$json")"
+setup_output="$folder/ros2-setup.out"  # beside the run: the folder exists, also where SOAK_FOLDER puts it elsewhere
 options=(--minutes "${SOAK_DURATION:-60}" --warm-up "${SOAK_WARM_UP:-10}" --seed "${SOAK_SEED:-1}"
          --restart-minutes "${SOAK_RESTART_MINUTES:-10}"
          --folder "$folder" --json "$json")
 case $ros in
   1) python3 -m cssr_system.ros1.soak_driver "${options[@]}" ;;
   2) setup=0
-     bash tools/ros2/setup.sh > "$results/ros2-setup.out" 2>&1 || setup=$?
-     if [ "$setup" = 3 ]; then tail -n 1 "$results/ros2-setup.out"; exit 3; fi  # no Python for the ROS 2 wheels
+     bash tools/ros2/setup.sh > "$setup_output" 2>&1 || setup=$?
+     if [ "$setup" = 3 ]; then tail -n 1 "$setup_output"; exit 3; fi  # no Python for the ROS 2 wheels
      if [ "$setup" != 0 ]; then
-       tail -n 20 "$results/ros2-setup.out"; echo "soak: the ROS 2 side could not be made"; exit 1
+       tail -n 20 "$setup_output"; echo "soak: the ROS 2 side could not be made"; exit 1
      fi
      export ROS_DOMAIN_ID=${SOAK_DOMAIN_ID:-$(free_ros2_domain)} ROS_AUTOMATIC_DISCOVERY_RANGE=LOCALHOST
      bash tools/ros2/run.sh bash -c 'PYTHONPATH="$0${PYTHONPATH:+:$PYTHONPATH}" exec python3 -m "$@"' \
