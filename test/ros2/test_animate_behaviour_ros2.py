@@ -134,10 +134,13 @@ class Run:
         return "still running" if process.poll() is None else process.communicate()[1]
 
     def close(self) -> int:
-        self.client.activate("disabled")
-        self.client.close()
-        status = stop(self.node)
-        stop(self.simulator)
+        """Disables the node, then stops both programs, also when the disable fails (no process outlives a test)."""
+        try:
+            self.client.activate("disabled")
+        finally:
+            self.client.close()
+            status = stop(self.node)
+            stop(self.simulator)
         return status
 
 

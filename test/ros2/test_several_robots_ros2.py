@@ -109,13 +109,16 @@ class Graph:
         return all(robot.set_activation.service_is_ready() and robot.samples for robot in self.robots.values())
 
     def close(self) -> None:
-        for robot in self.robots.values():
-            robot.activate("disabled")
-        for program in self.programs:
-            stop_program(program)
-        self.executor.shutdown()
-        self.node.destroy_node()
-        rclpy.shutdown(context=self.context)
+        """Disables both nodes, then stops every program, also when a disable fails."""
+        try:
+            for robot in self.robots.values():
+                robot.activate("disabled")
+        finally:
+            for program in self.programs:
+                stop_program(program)
+            self.executor.shutdown()
+            self.node.destroy_node()
+            rclpy.shutdown(context=self.context)
 
 
 @pytest.fixture(scope="module")
