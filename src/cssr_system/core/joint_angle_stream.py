@@ -105,11 +105,7 @@ class JointAngleStream(PartMotionStream):
 
     def disable(self, home: bool, planned: Optional[streaming.JointAngles] = None) -> None:
         """Stop the stream at once, then one call (`plan_stop`, or `planned` made by it a moment ago)."""
-        if self.state in (IDLE, HOMING):
-            return
-        if self.state == YIELDING:  # the other node owns the part: send nothing
-            self.yielding_to = ""
-            self.transition_to(IDLE, "disabled while yielding")
+        if self._disabled_without_sending():
             return
         now = self._clock()
         call = planned or self.plan_stop(home)

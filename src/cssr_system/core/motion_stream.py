@@ -112,6 +112,17 @@ class PartMotionStream(MotionStream):
         part waits for its controller or a retry (it starts again from them) or yields, it does."""
         return not self.drives_joints
 
+    def _disabled_without_sending(self) -> bool:
+        """What a disable does alike on every part stream: nothing, where nothing of ours runs or returns home; the
+        part idle and nothing sent, where another node owns it. True when that is the whole disable."""
+        if self.state in (StreamState.IDLE, StreamState.HOMING):
+            return True
+        if self.state == StreamState.YIELDING:
+            self.yielding_to = ""
+            self.transition_to(StreamState.IDLE, "disabled while yielding")
+            return True
+        return False
+
     def plan_start(self, plan, quiet_time: float = DEFAULT_QUIET_TIME):
         """The first motion `enable(motion, plan, quiet_time)` sends at once, made now without sending it (None: it
         sends none at once, or the stream makes nothing ahead)."""

@@ -109,11 +109,7 @@ class PartStream(PartMotionStream):
         """Stop: one return-to-centre goal when `home` (and a goal of ours moves the part), else cancel.
         `planned`: that goal, from `plan_stop(home)` a moment ago (planned now when None)."""
         self.retry_at = None
-        if self.state in (IDLE, HOMING):
-            return
-        if self.state == YIELDING:  # the other node owns the part: send nothing
-            self.yielding_to = ""
-            self.transition_to(IDLE, "disabled while yielding")
+        if self._disabled_without_sending():
             return
         if self._returns_home(home):
             timed = self._dispatch(planned or self.plan_stop(home))
