@@ -68,7 +68,7 @@ from cssr_system.pepper.simulated_pepper import (CONTROL_RATE, DRIVERS, GOAL_TIM
                                                  NAOQI_DRIVER, PLATFORMS, POSTURES, STOPPED_VELOCITY_TOLERANCE,
                                                  SUCCESSFUL, GoalOutcome, GoalPoint, GoalTolerances, SimulatedPepper,
                                                  action_namespace, base_topic, check_loop_settings, odometry_topic,
-                                                 yaw_quaternion)
+                                                 fill_state_messages)
 from cssr_system.ros2.program import on_signals, run_node
 
 NODE_NAME = "simulatedPepper"
@@ -459,19 +459,10 @@ class SimulatedPepperNode:
             stamp = self._stamp(now)
         for key, outcome in ended:
             self._deliver(self.model.controllers[key].name, [outcome])
-        self._joint_state.header.stamp = stamp
-        self._joint_state.position = joints.positions
-        self._joint_state.velocity = joints.velocities
+        fill_state_messages(stamp, joints, base, self._joint_state, self._odometry, commanded, self._commanded)
         self.joint_state_publisher.publish(self._joint_state)
         if commanded is not None:
-            self._commanded.header.stamp = stamp
-            self._commanded.position = commanded.positions
-            self._commanded.velocity = commanded.velocities
             self.commanded_publisher.publish(self._commanded)
-        self._odometry.header.stamp = stamp
-        orientation = self._odometry.pose.pose.orientation
-        orientation.x, orientation.y, orientation.z, orientation.w = yaw_quaternion(base.heading)
-        self._odometry.twist.twist.angular.z = base.angular_velocity
         self.odometry_publisher.publish(self._odometry)
         if self._feedback_period is not None and now >= self._next_feedback:
             self._next_feedback = now + self._feedback_period
@@ -484,17 +475,9 @@ class SimulatedPepperNode:
                 stamp = self._stamp(update.time)
             if goal is None:
                 continue
-            # As the controller's feedback: its last update, in its joint order; nothing measures accelerations.
-            desired, actual, error = update.desired, update.actual, update.error
-            feedback = FollowJointTrajectory.Feedback(
+            feedback = FollowJointTrajectory.Feedback(  # as the controller's: its last update
                 joint_names=list(controller.joint_names),
-                desired=JointTrajectoryPoint(positions=desired.positions.tolist(),
-                                             velocities=desired.velocities.tolist(),
-                                             accelerations=desired.accelerations.tolist()),
-                actual=JointTrajectoryPoint(positions=actual.positions.tolist(),
-                                            velocities=actual.velocities.tolist()),
-                error=JointTrajectoryPoint(positions=error.positions.tolist(),
-                                           velocities=error.velocities.tolist()))
+                **{name: JointTrajectoryPoint(**point) for name, point in update.feedback_points().items()})
             feedback.header.stamp = stamp
             goal.handle.publish_feedback(feedback)
 
