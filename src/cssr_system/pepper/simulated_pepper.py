@@ -195,6 +195,19 @@ class LimitViolation(NamedTuple):
     point_index: int  # index of the point in the goal
 
 
+MAX_VIOLATIONS_DESCRIBED = 4  # per goal, so one bad goal makes one readable warning
+
+
+def describe_violations(violations: Sequence[LimitViolation]) -> str:
+    """One line naming a goal's first values beyond the joint limits, and how many more there are."""
+    described = ["point {} {} = {:.5g} beyond its limit {:.5g}".format(
+        violation.point_index, violation.joint, violation.value, violation.limit)
+        for violation in violations[:MAX_VIOLATIONS_DESCRIBED]]
+    if len(violations) > MAX_VIOLATIONS_DESCRIBED:
+        described.append("and {} more".format(len(violations) - MAX_VIOLATIONS_DESCRIBED))
+    return "; ".join(described)
+
+
 class Acceptance(NamedTuple):
     """The answer to a goal. When rejected, nothing changed."""
 

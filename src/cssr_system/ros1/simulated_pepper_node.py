@@ -63,12 +63,11 @@ from cssr_system.pepper.joint_table import command_topic, JOINTS, WHEEL_JOINTS
 from cssr_system.pepper.simulated_pepper import (CONTROL_RATE, GOAL_TIME, MEASURED, PLATFORMS, POSTURES,
                                                  STOPPED_VELOCITY_TOLERANCE, SUCCESSFUL, GoalPoint, GoalTolerances,
                                                  SimulatedPepper, action_namespace, base_topic,
-                                                 check_loop_settings, odometry_topic, fill_state_messages, DRIVERS,
-                                                 IDEAL, NAOQI_DRIVER)
+                                                 check_loop_settings, describe_violations, fill_state_messages,
+                                                 odometry_topic, DRIVERS, IDEAL, NAOQI_DRIVER)
 
 NODE_NAME = "simulatedPepper"
 UPDATE_RATE = 50.0  # Hz: stepping the model (its control loop catches up), /joint_states and odometry
-MAX_VIOLATIONS_LOGGED = 4  # per goal, so one bad goal makes one readable warning
 JOINT_ANGLES_TOPIC = "joint_angles"  # naoqi_driver's setAngles topic, in the namespace
 
 
@@ -211,13 +210,8 @@ class SimulatedPepperNode:
             outcome.goal.set_aborted(result, outcome.error_string)
 
     def _report_violations(self, controller_name: str, violations) -> None:
-        described = ["point {} {} = {:.5g} beyond its limit {:.5g}".format(
-            violation.point_index, violation.joint, violation.value, violation.limit)
-            for violation in violations[:MAX_VIOLATIONS_LOGGED]]
-        if len(violations) > MAX_VIOLATIONS_LOGGED:
-            described.append("and {} more".format(len(violations) - MAX_VIOLATIONS_LOGGED))
         rospy.logwarn("%s: %s goal beyond the joint limits, executed at the limits: %s", NODE_NAME,
-                      controller_name, "; ".join(described))
+                      controller_name, describe_violations(violations))
         self._publish_violations()
 
     def _publish_violations(self) -> None:

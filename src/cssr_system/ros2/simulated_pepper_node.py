@@ -68,12 +68,11 @@ from cssr_system.pepper.simulated_pepper import (CONTROL_RATE, DRIVERS, GOAL_TIM
                                                  NAOQI_DRIVER, PLATFORMS, POSTURES, STOPPED_VELOCITY_TOLERANCE,
                                                  SUCCESSFUL, GoalOutcome, GoalPoint, GoalTolerances, SimulatedPepper,
                                                  action_namespace, base_topic, check_loop_settings, odometry_topic,
-                                                 fill_state_messages)
+                                                 describe_violations, fill_state_messages)
 from cssr_system.ros2.program import on_signals, run_node
 
 NODE_NAME = "simulatedPepper"
 UPDATE_RATE = 50.0  # Hz: stepping the model (its control loop catches up), /joint_states and odometry
-MAX_VIOLATIONS_LOGGED = 4  # per goal, so one bad goal makes one readable warning
 JOINT_ANGLES_TOPIC = "joint_angles"  # naoqi_driver2's setAngles topic, in the namespace
 TRAJECTORY_TOPIC_NAME = "joint_trajectory"  # ROS 2 joint_trajectory_controller's topic (ROS 1's is "command")
 # What ros2_controllers' joint_trajectory_controller (Jazzy, Kilted, Rolling) gives a goal that a new goal replaces.
@@ -382,13 +381,8 @@ class SimulatedPepperNode:
             outcome.goal.decide(ABORTED, outcome.error_code, outcome.error_string)
 
     def _report_violations(self, controller_name: str, violations) -> None:
-        described = ["point {} {} = {:.5g} beyond its limit {:.5g}".format(
-            violation.point_index, violation.joint, violation.value, violation.limit)
-            for violation in violations[:MAX_VIOLATIONS_LOGGED]]
-        if len(violations) > MAX_VIOLATIONS_LOGGED:
-            described.append("and {} more".format(len(violations) - MAX_VIOLATIONS_LOGGED))
         self.logger.warning("{} goal beyond the joint limits, executed at the limits: {}".format(
-            controller_name, "; ".join(described)))
+            controller_name, describe_violations(violations)))
         self._publish_violations()
 
     def _publish_violations(self) -> None:
