@@ -74,6 +74,21 @@ class Subject:
         if self.process.poll() is not None:
             raise SystemExit("benchmark: %s exited with status %d before offering its setActivation (see %s)"
                              % (label, self.process.returncode, self.output.name))
+        # A service seen in the graph may not answer yet (the reply's way back not yet discovered): a `disabled`,
+        # which changes nothing at start, is asked until both services answer.
+        for client, request in ((rig.activation, SetActivation.Request(state="disabled")),
+                                (rig.enabling, SetBool.Request(data=False))):
+            if not wait_until(lambda: self._answers(client, request), START_TIMEOUT, period=0.0):
+                raise SystemExit("benchmark: %s does not answer on %s (see %s)"
+                                 % (label, client.srv_name, self.output.name))
+
+    @staticmethod
+    def _answers(client, request) -> bool:
+        try:
+            call(client, request, 1.0)
+        except TimeoutError:
+            return False
+        return True
 
     def activate(self, state: str) -> None:
         call(self.rig.activation, SetActivation.Request(state=state), CALL_TIMEOUT)

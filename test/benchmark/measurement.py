@@ -22,7 +22,7 @@ import sys
 import time
 
 from report import BUSY, CPU_ANIMATING, CPU_BUSY, CPU_DISABLED, COLD_FIRST_GOAL, EXITS, RESUME, ZERO_TWIST
-from report import met_of, results_of, soak_table, table, targets, write_outputs
+from report import met_line, met_of, results_of, soak_table, table, targets, write_outputs
 
 from cssr_system.core.joint_states import REST_DELAY
 from cssr_system.soak import processes
@@ -236,9 +236,11 @@ def run(rig, ros: int, options: argparse.Namespace, folder: str, node_python: st
     measurement = Measurement(rig, ros, options.cycles, options.cpu_window, options.exit_runs)
     raw = {"node": measurement.measure("node", node=True), "reference": measurement.measure("reference", node=False)}
     results = results_of(raw, ros)
+    met = met_of(results, ros)
     print(table(options.platform, results, ros))
+    print(met_line(met))
     section = {"figures": results, "targets": {target.name: target.as_dict() for target in targets(ros)},
-               "met": met_of(results, ros), "ros": ros, "busy configuration": BUSY,
+               "met": met, "ros": ros, "busy configuration": BUSY,
                "cycles": options.cycles, "cpu window": options.cpu_window, "exit runs": options.exit_runs,
                "quiet time": rig.quiet_time, "node python": node_python,
                "cores": os.cpu_count(), "host": socket.gethostname(),

@@ -91,12 +91,14 @@ def main() -> int:
     reference = ReferenceNode(node)
     executor = SingleThreadedExecutor()
     executor.add_node(node)
-    threading.Thread(target=executor.spin, name="executor", daemon=True).start()
+    spinner = threading.Thread(target=executor.spin, name="executor", daemon=True)
+    spinner.start()
     signal.sigwait(SIGNALS)
     reference.motion.disable()
     reference.motion.close()
     time.sleep(0.05)  # the cancel requests leave
-    executor.shutdown(0.5)
+    executor.shutdown()
+    spinner.join(5.0)  # rclpy's threads end before the interpreter does
     node.destroy_node()
     rclpy.try_shutdown()
     return 0

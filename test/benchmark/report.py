@@ -180,6 +180,14 @@ def met_of(results: dict, ros: int) -> dict:
             for target in targets(ros)}
 
 
+def met_line(met: dict) -> str:
+    """Which targets the node met, in one line."""
+    judged = [name for name, value in met.items() if value is not None]
+    missed = [name for name in judged if not met[name]]
+    return "targets met: %d of %d%s" % (len(judged) - len(missed), len(judged),
+                                        "; not met: " + ", ".join(missed) if missed else "")
+
+
 def soak_table(result: dict) -> str:
     lines = ["soak: %g s of short goals (%d enable/disable cycles), then %d quick enable/disable cycles"
              % (result["soak seconds"], result["soak cycles"], result["growth cycles"]),
@@ -205,6 +213,8 @@ def section_markdown(document: dict, ros: int) -> str:
     platforms = list(document)
     rows = {platform: rows_of(document[platform]["figures"], ros) for platform in platforms}
     lines = ["## %s (`%s`)" % (FRONT_ENDS[ros], COMMANDS[ros]), ""]
+    if not platforms:
+        return "\n".join(lines + ["Not run yet."])
     for platform in platforms:
         section = document[platform]
         node_python = section.get("node python", "the same")
@@ -238,8 +248,7 @@ def markdown(document: dict, ros: int, existing: str = "") -> str:
         else:
             pattern = re.escape(_marker(front_end, "begin")) + r"\n(.*?)\n" + re.escape(_marker(front_end, "end"))
             found = re.search(pattern, existing, re.DOTALL)
-            section = (found.group(1) if found
-                       else "## %s (`%s`)\n\nNot run yet." % (FRONT_ENDS[front_end], COMMANDS[front_end]))
+            section = found.group(1) if found else section_markdown({}, front_end)
         lines += ["", _marker(front_end, "begin"), section, _marker(front_end, "end")]
     return "\n".join(lines) + "\n"
 
