@@ -29,7 +29,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
-from measurement import arguments, run  # noqa: E402
+from measurement import arguments, run, stop_process  # noqa: E402
 from reference_motion import configuration_of  # noqa: E402
 from wire_recorder import WireRecorder, wait_until  # noqa: E402
 
@@ -80,19 +80,12 @@ class Subject:
 
     def stop(self, signal_number):
         """Seconds from sending the signal to the process's exit, and its exit status."""
-        started = time.monotonic()
-        self.process.send_signal(signal_number)
-        try:
-            self.process.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            self.process.kill()
-            self.process.wait()
-        seconds = time.monotonic() - started
+        seconds, status = stop_process(self.process, signal_number)
         self.output.close()
         self.call.close()
         self._set_enabled.close()
         wait_until(lambda: SERVICE_PATH not in services(), 5)
-        return seconds, self.process.returncode
+        return seconds, status
 
 
 class Rig:

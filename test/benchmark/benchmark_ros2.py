@@ -16,7 +16,6 @@ usage: benchmark_ros2.py --platform robot|simulator [--cycles N] [--cpu-window S
                          [--markdown FILE] [--soak S] [--growth-cycles N]
 """
 import os
-import signal
 import subprocess
 import sys
 import tempfile
@@ -41,13 +40,14 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 from unique_identifier_msgs.msg import UUID
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-from measurement import arguments, run, wait_until  # noqa: E402
+from measurement import arguments, run, stop_process, wait_until  # noqa: E402
 from reference_motion import configuration_of  # noqa: E402
 
 from cssr_system.animate_behaviour import contract  # noqa: E402
 from cssr_system.animate_behaviour.topics import WHEELS_KEY  # noqa: E402
 from cssr_system.pepper.joint_table import PARTS  # noqa: E402
 from cssr_system.ros2.program import call  # noqa: E402
+from cssr_system.soak.processes import Program  # noqa: E402
 
 NODE = "/" + contract.NODE_NAME
 CALL_TIMEOUT = 5.0  # s
@@ -98,17 +98,10 @@ class Subject:
 
     def stop(self, signal_number):
         """Seconds from sending the signal to the process's exit, and its exit status."""
-        started = time.monotonic()
-        self.process.send_signal(signal_number)
-        try:
-            self.process.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            self.process.kill()
-            self.process.wait()
-        seconds = time.monotonic() - started
+        seconds, status = stop_process(self.process, signal_number)
         self.output.close()
         wait_until(lambda: not self.rig.activation.service_is_ready(), 5)
-        return seconds, self.process.returncode
+        return seconds, status
 
 
 class Rig:
@@ -235,11 +228,10 @@ def main(argv) -> int:
     executor = SingleThreadedExecutor()
     executor.add_node(node)
     spinner = threading.Thread(target=executor.spin, name="executor", daemon=True)
-    simulator = subprocess.Popen([sys.executable, "-m", "cssr_system.ros2.simulated_pepper_node"]
-                                 + ros_arguments({"platform": options.platform}),
-                                 stdout=open(os.path.join(folder, "simulatedPepper.out"), "a"),
-                                 stderr=subprocess.STDOUT)
+    simulator = Program([sys.executable, "-m", "cssr_system.ros2.simulated_pepper_node"]
+                        + ros_arguments({"platform": options.platform}), os.path.join(folder, "simulatedPepper.out"))
     try:
+        simulator.start()
         spinner.start()
         rig = Rig(node, options.platform, folder)
         if not rig.controllers_ready(START_TIMEOUT):
@@ -247,11 +239,7 @@ def main(argv) -> int:
                              % (START_TIMEOUT, folder))
         run(rig, 2, options, folder, "the same")
     finally:
-        simulator.send_signal(signal.SIGINT)
-        try:
-            simulator.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            simulator.kill()
+        simulator.stop()
         executor.shutdown()
         spinner.join(5.0)
         node.destroy_node()

@@ -18,6 +18,7 @@ import functools
 import os
 import signal
 import socket
+import subprocess
 import sys
 import time
 
@@ -42,6 +43,18 @@ def cpu_shares(pid: int, seconds: float, figures: dict, slices: int = 4) -> list
         shares.append(100.0 * (cpu_seconds(pid) - start) / (time.monotonic() - started))
         sample_process(pid, figures)
     return shares
+
+
+def stop_process(process: subprocess.Popen, signal_number: int, timeout: float = 10.0):
+    """Seconds from sending `signal_number` to the process's exit (killed after `timeout` s), and its exit status."""
+    started = time.monotonic()
+    process.send_signal(signal_number)
+    try:
+        process.wait(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        process.kill()
+        process.wait()
+    return time.monotonic() - started, process.returncode
 
 
 def sample_process(pid: int, figures: dict) -> None:
