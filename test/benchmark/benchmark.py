@@ -29,7 +29,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
-from measurement import arguments, run, stop_process  # noqa: E402
+from measurement import arguments, run, stop_left, stop_process  # noqa: E402
 from reference_motion import configuration_of  # noqa: E402
 from wire_recorder import WireRecorder, wait_until  # noqa: E402
 
@@ -62,6 +62,7 @@ class Subject:
         self.output = open(os.path.join(folder, label + ".out"), "a")
         self.process = subprocess.Popen(command, stdout=self.output, stderr=subprocess.STDOUT)
         if not wait_until(lambda: self.process.poll() is not None or SERVICE_PATH in services(), 30, period=0.05):
+            self.process.kill()
             raise SystemExit("benchmark: %s did not offer %s within 30 s (see %s)"
                              % (label, SERVICE_PATH, self.output.name))
         if self.process.poll() is not None:
@@ -94,6 +95,7 @@ class Rig:
 
     def __init__(self, platform: str, folder: str, node_python=None) -> None:
         self.platform, self.folder, self.node_python = platform, folder, node_python
+        self.started = []  # every subject started, so that none outlives the run
         configuration, topics = configuration_of(platform, {})
         self.quiet_time = configuration.yield_quiet_time
         self.topics = dict(topics)
@@ -115,7 +117,9 @@ class Rig:
                 "_platform:=" + self.platform] + private_parameters(settings)
 
     def start(self, label: str, command) -> Subject:
-        return Subject(label, command, self.folder)
+        subject = Subject(label, command, self.folder)
+        self.started.append(subject)
+        return subject
 
     def clear(self) -> None:
         self.wire.clear()
@@ -169,6 +173,7 @@ def main(argv) -> int:
     folder = tempfile.mkdtemp(prefix="benchmark-")
     os.environ["ROS_MASTER_URI"] = "http://localhost:%d" % free_port()
     os.environ.setdefault("ROS_HOME", folder)
+    rig = None
     processes = [subprocess.Popen(["roscore", "-p", os.environ["ROS_MASTER_URI"].rsplit(":", 1)[1]],
                                   stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)]
     try:
@@ -180,6 +185,8 @@ def main(argv) -> int:
         rig = Rig(options.platform, folder, options.node_python)
         run(rig, 1, options, folder, options.node_python or "the same")
     finally:
+        if rig is not None:
+            stop_left(rig.started)
         rospy.signal_shutdown("done")
         for process in reversed(processes):
             process.send_signal(signal.SIGINT)

@@ -40,7 +40,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 from unique_identifier_msgs.msg import UUID
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-from measurement import arguments, run, stop_process, wait_until  # noqa: E402
+from measurement import arguments, run, stop_left, stop_process, wait_until  # noqa: E402
 from reference_motion import configuration_of  # noqa: E402
 
 from cssr_system.animate_behaviour import contract  # noqa: E402
@@ -69,6 +69,7 @@ class Subject:
         self.pid = self.process.pid
         if not wait_until(lambda: self.process.poll() is not None or rig.activation.service_is_ready(),
                           START_TIMEOUT, period=0.05):
+            self.process.kill()
             raise SystemExit("benchmark: %s did not offer its setActivation within %g s (see %s)"
                              % (label, START_TIMEOUT, self.output.name))
         if self.process.poll() is not None:
@@ -79,6 +80,7 @@ class Subject:
         for client, request in ((rig.activation, SetActivation.Request(state="disabled")),
                                 (rig.enabling, SetBool.Request(data=False))):
             if not wait_until(lambda: self._answers(client, request), START_TIMEOUT, period=0.0):
+                self.process.kill()
                 raise SystemExit("benchmark: %s does not answer on %s (see %s)"
                                  % (label, client.srv_name, self.output.name))
 
@@ -110,6 +112,7 @@ class Rig:
 
     def __init__(self, node: Node, platform: str, folder: str) -> None:
         self.node, self.platform, self.folder = node, platform, folder
+        self.started = []  # every subject started, so that none outlives the run
         configuration, topics = configuration_of(platform, {})
         self.quiet_time = configuration.yield_quiet_time
         self.actions = {key: node.resolve_topic_name(name) for key, name in topics.items() if key in PARTS}
@@ -161,7 +164,9 @@ class Rig:
             dict({"platform": self.platform}, **settings))
 
     def start(self, label: str, command) -> Subject:
-        return Subject(self, label, command)
+        subject = Subject(self, label, command)
+        self.started.append(subject)
+        return subject
 
     def clear(self) -> None:
         with self._lock:
@@ -230,6 +235,7 @@ def main(argv) -> int:
     spinner = threading.Thread(target=executor.spin, name="executor", daemon=True)
     simulator = Program([sys.executable, "-m", "cssr_system.ros2.simulated_pepper_node"]
                         + ros_arguments({"platform": options.platform}), os.path.join(folder, "simulatedPepper.out"))
+    rig = None
     try:
         simulator.start()
         spinner.start()
@@ -239,6 +245,8 @@ def main(argv) -> int:
                              % (START_TIMEOUT, folder))
         run(rig, 2, options, folder, "the same")
     finally:
+        if rig is not None:
+            stop_left(rig.started)
         simulator.stop()
         executor.shutdown()
         spinner.join(5.0)

@@ -57,6 +57,13 @@ def stop_process(process: subprocess.Popen, signal_number: int, timeout: float =
     return time.monotonic() - started, process.returncode
 
 
+def stop_left(subjects) -> None:
+    """Stops every subject still running (after a failure of the run: nothing the run started outlives it)."""
+    for subject in subjects:
+        if subject.process.poll() is None:
+            stop_process(subject.process, signal.SIGINT)
+
+
 def sample_process(pid: int, figures: dict) -> None:
     for name, value in process_figures(pid).items():
         figures[name].append(value)
@@ -247,7 +254,13 @@ def arguments(argv, description: str) -> argparse.Namespace:
 def run(rig, ros: int, options: argparse.Namespace, folder: str, node_python: str) -> None:
     """Both subjects measured on `rig`, the table printed, the JSON and the markdown written."""
     measurement = Measurement(rig, ros, options.cycles, options.cpu_window, options.exit_runs)
-    raw = {"node": measurement.measure("node", node=True), "reference": measurement.measure("reference", node=False)}
+    raw = {}
+    for label in ("node", "reference"):
+        try:
+            raw[label] = measurement.measure(label, node=label == "node")
+        except Exception as error:  # noqa: BLE001 - a subject that stops answering ends the run, with the reason
+            raise SystemExit("benchmark: the %s stopped answering (%s: %s); its output, and its log: %s"
+                             % (label, type(error).__name__, error, folder)) from error
     results = results_of(raw, ros)
     met = met_of(results, ros)
     print(table(options.platform, results, ros))

@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 """The benchmark's yardstick on ROS 1: a minimal rospy node with animateBehaviour's interface and nothing else. It
 serves `setActivation` and `set_enabled`, holds one action client per controller of the platform's topic file, and
-while enabled sends each part goals planned as the node plans them, back to back (reference_motion.py); it cancels
-them on `disabled`, and exits on SIGINT or SIGTERM after cancelling. It subscribes to nothing but what its action
-clients need. Measured with the same code as the node (`benchmark.py`), its figures show what rospy itself costs on
-the machine at hand.
+while enabled sends each part goals planned as the node plans them, back to back, and turns the base as the node does
+(reference_motion.py); it cancels them on `disabled`, and exits on SIGINT or SIGTERM after cancelling. It subscribes
+to nothing but what its action clients need. Measured with the same code as the node (`benchmark.py`), its figures
+show what rospy itself costs on the machine at hand.
 
   reference_node.py _platform:=robot [_gestureDuration:=0.5 _numPoints:=10]
 """
@@ -15,11 +15,13 @@ import time
 import actionlib
 import rospy
 from control_msgs.msg import FollowJointTrajectoryAction
+from geometry_msgs.msg import Twist
 from std_srvs.srv import SetBool, SetBoolResponse
 
 from reference_motion import SETTINGS, ReferenceMotion, configuration_of
 
 from cssr_system.animate_behaviour.contract import NODE_NAME, SERVICE_NAME, SET_ENABLED_SERVICE_NAME
+from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.ros1.trajectory_client import goal_message
 from cssr_system.srv import setActivation, setActivationResponse
@@ -45,7 +47,13 @@ def main() -> int:
         for goal_handle in handles.values():
             goal_handle.cancel()
         handles.clear()
-    motion = ReferenceMotion(configuration, clients, send, cancel)
+    wheels = rospy.Publisher(topics[WHEELS_KEY], Twist, queue_size=10) if WHEELS_KEY in topics else None
+
+    def turn(angular_z):
+        twist = Twist()
+        twist.angular.z = angular_z
+        wheels.publish(twist)
+    motion = ReferenceMotion(configuration, topics, send, cancel, turn)
 
     def activate(enabled: bool) -> None:
         if enabled:

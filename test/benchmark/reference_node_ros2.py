@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
-"""The benchmark's yardstick on ROS 2: a minimal rclpy node with animateBehaviour's interface and nothing else, the
-twin of reference_node.py. It serves `setActivation` and `set_enabled`, holds one FollowJointTrajectory action client
-per controller of the platform's topic file, and while enabled sends each part goals planned as the node plans them,
-back to back (reference_motion.py); it cancels them on `disabled`, and exits on SIGINT or SIGTERM after cancelling.
-It subscribes to nothing but what its action clients need (their status and feedback topics). One executor thread
-serves it, as one serves the node.
+"""The benchmark's yardstick on ROS 2: a minimal rclpy node with animateBehaviour's interface and nothing else, the twin
+of reference_node.py. It serves `setActivation` and `set_enabled`, holds one FollowJointTrajectory action client per
+controller of the platform's topic file, and while enabled sends each part goals planned as the node plans them, back
+to back, and turns the base as the node does (reference_motion.py); it cancels them on `disabled`, and exits on
+SIGINT or SIGTERM after cancelling. It subscribes to nothing but what its action clients need (their status and
+feedback topics). One executor thread serves it, as one serves the node.
 
   reference_node_ros2.py --ros-args -p platform:=robot [-p gestureDuration:=0.5 -p numPoints:=10 ...]
 """
@@ -16,6 +16,7 @@ import time
 import rclpy
 from control_msgs.action import FollowJointTrajectory
 from cssr_system_interfaces.srv import SetActivation
+from geometry_msgs.msg import Twist
 from rclpy.action import ActionClient
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
@@ -25,6 +26,7 @@ from std_srvs.srv import SetBool
 from reference_motion import SETTINGS, ReferenceMotion, configuration_of
 
 from cssr_system.animate_behaviour import contract
+from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.ros2.trajectory_client import goal_message
 
@@ -40,13 +42,20 @@ class ReferenceNode:
                         for key, name in topics.items() if key in PARTS}
         self._lock = threading.Lock()
         self._sent = {}  # part -> the future of its last goal's acceptance
-        self.motion = ReferenceMotion(configuration, self.clients, self._send, self._cancel)
+        self._wheels = (node.create_publisher(Twist, node.resolve_topic_name(topics[WHEELS_KEY]), 10)
+                        if WHEELS_KEY in topics else None)
+        self.motion = ReferenceMotion(configuration, topics, self._send, self._cancel, self._turn)
         node.create_service(SetActivation, "~/" + contract.SET_ACTIVATION, self._on_set_activation)
         node.create_service(SetBool, "~/" + contract.SET_ENABLED, self._on_set_enabled)
 
     def _send(self, key, joints, timed) -> None:
         with self._lock:
             self._sent[key] = self.clients[key].send_goal_async(goal_message(joints, timed))
+
+    def _turn(self, angular_z: float) -> None:
+        twist = Twist()
+        twist.angular.z = angular_z
+        self._wheels.publish(twist)
 
     def _cancel(self) -> None:
         with self._lock:
