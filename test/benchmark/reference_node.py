@@ -3,8 +3,9 @@
 serves `setActivation` and `set_enabled`, holds one action client per controller of the platform's topic file, and
 while enabled sends each part goals planned as the node plans them, back to back, and turns the base as the node does
 (reference_motion.py); it cancels them on `disabled`, and exits on SIGINT or SIGTERM after cancelling. It subscribes
-to nothing but what its action clients need. Measured with the same code as the node (`benchmark.py`), its figures
-show what rospy itself costs on the machine at hand.
+to nothing but what its action clients need (their status and result topics; not their feedback, as the node).
+Measured with the same code as the node (`benchmark.py`), its figures show what rospy itself costs on the machine at
+hand.
 
   reference_node.py _platform:=robot [_gestureDuration:=0.5 _numPoints:=10]
 """
@@ -38,6 +39,8 @@ def main() -> int:
     configuration, topics = configuration_of(rospy.get_param("~platform", "robot"), settings)
     clients = {key: actionlib.ActionClient(name, FollowJointTrajectoryAction) for key, name in topics.items()
                if key in PARTS}
+    for client in clients.values():  # as the node: it has no use for the controllers' feedback
+        client.feedback_sub.unregister()
     handles = {}
 
     def send(key, joints, timed):
