@@ -16,8 +16,9 @@ test:
 	bash tools/run_tests.sh
 
 # make benchmark CYCLES=30 CPU_WINDOW=20 EXIT_RUNS=3 PLATFORMS="robot simulator" JSON=/tmp/b.json
-#                SOAK=3600 GROWTH_CYCLES=10000 PYTHON38=1 (or BENCHMARK_CYCLES, ... in the environment)
-BENCHMARK_OPTIONS := CYCLES CPU_WINDOW EXIT_RUNS PLATFORMS JSON SOAK GROWTH_CYCLES PYTHON38
+#                SOAK=3600 GROWTH_CYCLES=10000 PYTHON38=1 ROS=1|2 DOMAIN_ID=42 (or BENCHMARK_CYCLES, ... in the
+#                environment): doc/performance.md.
+BENCHMARK_OPTIONS := CYCLES CPU_WINDOW EXIT_RUNS PLATFORMS JSON SOAK GROWTH_CYCLES PYTHON38 ROS DOMAIN_ID
 benchmark:
 	$(foreach option,$(BENCHMARK_OPTIONS),$(if $(filter command line,$(origin $(option))),BENCHMARK_$(option)='$(subst ','\'',$($(option)))')) \
 	bash tools/benchmark.sh
