@@ -3,8 +3,10 @@
 of reference_node.py. It serves `setActivation` and `set_enabled`, holds one FollowJointTrajectory action client per
 controller of the platform's topic file, and while enabled sends each part goals planned as the node plans them, back
 to back, and turns the base as the node does (reference_motion.py); it cancels them on `disabled`, and exits on
-SIGINT or SIGTERM after cancelling. It subscribes to nothing but what its action clients need (their status and
-feedback topics). One executor thread serves it, as one serves the node.
+SIGINT or SIGTERM after cancelling. It serves an animate action that refuses every goal, and subscribes to what a
+node that yields to other nodes must receive, as the node does (each controller's status and trajectory topics, the
+base topic, the JointAngles topic; their messages are dropped), besides its action clients' topics: no
+/joint_states. One executor thread serves it, as one serves the node.
 
   reference_node_ros2.py --ros-args -p platform:=robot [-p gestureDuration:=0.5 -p numPoints:=10 ...]
 """
@@ -17,7 +19,12 @@ import rclpy
 from control_msgs.action import FollowJointTrajectory
 from cssr_system_interfaces.srv import SetActivation
 from geometry_msgs.msg import Twist
-from rclpy.action import ActionClient
+from action_msgs.msg import GoalStatusArray
+from cssr_system_interfaces.action import Animate
+from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
+from rclpy.action import ActionClient, ActionServer, GoalResponse
+from rclpy.qos import qos_profile_action_status_default
+from trajectory_msgs.msg import JointTrajectory
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.signals import SignalHandlerOptions
@@ -26,8 +33,9 @@ from std_srvs.srv import SetBool
 from reference_motion import SETTINGS, ReferenceMotion, configuration_of
 
 from cssr_system.animate_behaviour import contract
-from cssr_system.animate_behaviour.topics import WHEELS_KEY
+from cssr_system.animate_behaviour.topics import WHEELS_KEY, joint_angles_topic
 from cssr_system.pepper.joint_table import PARTS
+from cssr_system.ros2.foreign_watch import trajectory_topic
 from cssr_system.ros2.trajectory_client import goal_message
 
 SIGNALS = {signal.SIGINT, signal.SIGTERM}
@@ -47,6 +55,23 @@ class ReferenceNode:
         self.motion = ReferenceMotion(configuration, topics, self._send, self._cancel, self._turn)
         node.create_service(SetActivation, "~/" + contract.SET_ACTIVATION, self._on_set_activation)
         node.create_service(SetBool, "~/" + contract.SET_ENABLED, self._on_set_enabled)
+        self._animate = ActionServer(node, Animate, "~/" + contract.ANIMATE_ACTION, lambda handle: Animate.Result(),
+                                     goal_callback=lambda goal: GoalResponse.REJECT)
+        self._watch(node, topics)
+
+    @staticmethod
+    def _watch(node: Node, topics) -> None:
+        """The subscriptions of a node that yields to other nodes' goals, trajectories, turns and setAngles calls."""
+        for key, name in topics.items():
+            action = node.resolve_topic_name(name)
+            if key in PARTS:
+                node.create_subscription(GoalStatusArray, action + "/_action/status", lambda message: None,
+                                         qos_profile_action_status_default)
+                node.create_subscription(JointTrajectory, trajectory_topic(action), lambda message: None, 10)
+            elif key == WHEELS_KEY:
+                node.create_subscription(Twist, action, lambda message: None, 10)
+        node.create_subscription(JointAnglesWithSpeed, node.resolve_topic_name(joint_angles_topic(topics)),
+                                 lambda message: None, 10)
 
     def _send(self, key, joints, timed) -> None:
         with self._lock:
