@@ -7,7 +7,6 @@ another node's goal, which SUCCEEDS.
 """
 import os
 import sys
-import threading
 import time
 import unittest
 
@@ -25,6 +24,7 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.event_log import read_log
 from cssr_system.msg import AnimateBehaviourStatus
 from cssr_system.pepper.joint_table import PARTS, centre_of
+from cssr_system.recording.robot_watch import RobotWatch
 from cssr_system.srv import setActivation
 
 NODES = {"robot1": "/robot1/animateBehaviour", "robot2": "/robot2/animateRobot2"}
@@ -33,41 +33,19 @@ MOVED = 0.005  # rad: a joint that travelled more than this moved
 WATCH = 3.0  # s of motion looked at per step
 
 
-class Robot:
+class Robot(RobotWatch):
     """What one robot's joints did, and what its node says, as seen from outside."""
 
     def __init__(self, name: str) -> None:
+        super().__init__()
         self.node = NODES[name]
-        self.lock = threading.Lock()
-        self.samples = []  # (monotonic time, {joint: position})
-        self.statuses = []  # AnimateBehaviourStatus
-        rospy.Subscriber("/%s/joint_states" % name, JointState, self._on_joint_states, queue_size=50)
-        rospy.Subscriber(contract.interface_of(self.node, contract.STATUS), AnimateBehaviourStatus,
-                         self._on_status, queue_size=50)
+        rospy.Subscriber("/%s/joint_states" % name, JointState,
+                         lambda message: self.joint_states(message.name, message.position), queue_size=50)
+        rospy.Subscriber(contract.interface_of(self.node, contract.STATUS), AnimateBehaviourStatus, self.status,
+                         queue_size=50)
         service = contract.interface_of(self.node, contract.SET_ACTIVATION)
         rospy.wait_for_service(service, timeout=30)
         self.set_activation = rospy.ServiceProxy(service, setActivation)
-
-    def _on_joint_states(self, message: JointState) -> None:
-        with self.lock:
-            self.samples.append((time.monotonic(), dict(zip(message.name, message.position))))
-
-    def _on_status(self, message: AnimateBehaviourStatus) -> None:
-        with self.lock:
-            self.statuses.append(message)
-
-    def travel(self, since: float) -> float:
-        """The largest travel of an arm, hand or leg joint since `since`."""
-        with self.lock:
-            samples = [positions for stamp, positions in self.samples if stamp >= since]
-        joints = [joint for part in PARTS.values() for joint in part.joints]
-        return max((max(s[joint] for s in samples) - min(s[joint] for s in samples) for joint in joints
-                    if samples and all(joint in s for s in samples)), default=0.0)
-
-    def yielding_since(self, count: int):
-        with self.lock:
-            return [(part.part, part.yielding_to) for status in self.statuses[count:] for part in status.parts
-                    if part.state == "yielding"]
 
 
 class SeveralRobotsTest(unittest.TestCase):

@@ -36,6 +36,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint  # noqa: E402
 from cssr_system.animate_behaviour import contract  # noqa: E402
 from cssr_system.animate_behaviour.configuration import ConfigurationError, load_configuration  # noqa: E402
 from cssr_system.animate_behaviour.event_log import read_log  # noqa: E402
+from cssr_system.core.joint_states import REST_DELAY  # noqa: E402
 from cssr_system.package_files import data_dir  # noqa: E402
 from cssr_system.pepper.joint_table import PARTS  # noqa: E402
 
@@ -93,6 +94,11 @@ class Client:
     def part_state(self, part: str) -> str:
         status = self.status
         return next((row.state for row in status.parts if row.part == part), "") if status is not None else ""
+
+    def node_listens_to_joint_states(self) -> bool:
+        """The graph lists the node among /joint_states' subscribers."""
+        return any(info.node_name == contract.NODE_NAME
+                   for info in self.node.get_subscriptions_info_by_topic("/joint_states"))
 
     def set_parameter(self, name: str, value):
         if isinstance(value, str):
@@ -196,6 +202,8 @@ def test_goals_stay_in_their_bands_and_a_disable_stops_every_part_at_once(trajec
     samples = client.joint_states[moved_from:]
     arm = [dict(zip(message.name, message.position))["RShoulderPitch"] for message in samples]
     assert max(arm) - min(arm) > 0.01, "the arm moves"
+    assert wait_until(lambda: not client.node_listens_to_joint_states(), REST_DELAY + 3.0), \
+        "while every part runs goals of ours, the node does not listen to /joint_states"
     stopped = time.time()
     assert client.activate("disabled") == contract.REPLY_SUCCESS
     assert wait_until(lambda: {entry.fields["part"] for entry in run.entries(contract.GOAL_SENT, stopped)

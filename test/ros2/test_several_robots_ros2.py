@@ -31,6 +31,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint  # noqa: E402
 from cssr_system.animate_behaviour import contract  # noqa: E402
 from cssr_system.animate_behaviour.event_log import node_log_file_name, read_log  # noqa: E402
 from cssr_system.pepper.joint_table import PARTS, centre_of  # noqa: E402
+from cssr_system.recording.robot_watch import RobotWatch  # noqa: E402
 from domains import claim_domain  # noqa: E402
 from processes import start_program, stop_program, wait_until  # noqa: E402
 
@@ -44,44 +45,24 @@ WATCH = 3.0  # s of motion looked at per step
 LATCHED = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)
 
 
-class Robot:
+class Robot(RobotWatch):
     """One robot's joints and node status as seen from outside, on the test client's node."""
 
     def __init__(self, node: Node, name: str) -> None:
+        super().__init__()
         self.name, self.node_name = name, NODES[name]
-        self.lock = threading.Lock()
-        self.samples, self.statuses = [], []
-        node.create_subscription(JointState, "/%s/joint_states" % name, self._on_joint_states, 50)
+        node.create_subscription(JointState, "/%s/joint_states" % name,
+                                 lambda message: self.joint_states(message.name, message.position), 50)
         node.create_subscription(AnimateBehaviourStatus, contract.interface_of(self.node_name, contract.STATUS),
-                                 self._on_status, LATCHED)
+                                 self.status, LATCHED)
         self.set_activation = node.create_client(SetActivation, contract.interface_of(self.node_name,
                                                                                       contract.SET_ACTIVATION))
-
-    def _on_joint_states(self, message: JointState) -> None:
-        with self.lock:
-            self.samples.append((time.monotonic(), dict(zip(message.name, message.position))))
-
-    def _on_status(self, message: AnimateBehaviourStatus) -> None:
-        with self.lock:
-            self.statuses.append(message)
 
     def activate(self, state: str) -> str:
         assert self.set_activation.wait_for_service(timeout_sec=START_TIMEOUT), self.set_activation.srv_name
         future = self.set_activation.call_async(SetActivation.Request(state=state))
         assert wait_until(future.done, 5.0), "no reply from %s" % self.set_activation.srv_name
         return future.result().success
-
-    def travel(self, since: float) -> float:
-        with self.lock:
-            samples = [positions for stamp, positions in self.samples if stamp >= since]
-        joints = [joint for part in PARTS.values() for joint in part.joints]
-        return max((max(s[joint] for s in samples) - min(s[joint] for s in samples) for joint in joints
-                    if samples and all(joint in s for s in samples)), default=0.0)
-
-    def yielding_since(self, count: int):
-        with self.lock:
-            return [(part.part, part.yielding_to) for status in self.statuses[count:] for part in status.parts
-                    if part.state == "yielding"]
 
 
 class Graph:

@@ -54,3 +54,22 @@ class FakeLog:
 
     def events(self, name):
         return [fields for event, fields in self.entries if event == name]
+
+
+class FakeJointStates:
+    """Where the joints are, as a test says (`measure(joints)`: the positions, or None when unknown); what the
+    streams tell of their own motion is recorded."""
+
+    def __init__(self, measure):
+        self.measure = measure
+        self.moved = []  # the joints of each motion of ours, in order
+        self.settled = []  # (joints, positions) where each succeeded goal left them
+
+    def positions(self, joints):
+        return self.measure(joints)
+
+    def moving(self, joints):
+        self.moved.append(tuple(joints))
+
+    def settle(self, joints, positions):
+        self.settled.append((tuple(joints), [float(position) for position in positions]))

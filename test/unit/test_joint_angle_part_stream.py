@@ -3,7 +3,7 @@ executed by the model of naoqi_driver (simulated_pepper.NaoqiDriver): no ROS mas
 import numpy
 import pytest
 from conftest import default_configuration
-from fakes import FakeLog
+from fakes import FakeJointStates, FakeLog
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.core.foreign_motion import JOINT_ANGLES
@@ -46,7 +46,8 @@ class Rig:
         self.warnings = []
         self.driver = NaoqiDriver(self.joints, PARTS[part].centre, self.now)
         self.measured = measured
-        self.stream = JointAngleStream(part, ACTION, self.topic, lambda: self.now, self.positions, self.log,
+        self.joint_states = FakeJointStates(self.positions)
+        self.stream = JointAngleStream(part, ACTION, self.topic, lambda: self.now, self.joint_states, self.log,
                                        debug=lambda *args: None,
                                        warn=lambda text, *args: self.warnings.append(text % args))
         if connected:

@@ -31,9 +31,9 @@ class Rig:
         while self.now < end - 1e-9:
             if self.feed.state == FeedState.LISTENING:
                 self.measure()
-            self.feed.update(None, self.cache.complete(ARM), self.now)
+            self.feed.update(None, ARM, self.now)
             self.now += step
-        self.feed.update(None, self.cache.complete(ARM), self.now)
+        self.feed.update(None, ARM, self.now)
 
 
 def test_rests_after_the_rest_delay_of_quiet_and_holds_the_measurements():
@@ -51,7 +51,7 @@ def test_rests_after_the_rest_delay_of_quiet_and_holds_the_measurements():
 def test_no_rest_without_a_measurement_of_every_joint():
     rig = Rig()
     for _ in range(20):
-        rig.feed.update(None, rig.cache.complete(ARM), rig.now)
+        rig.feed.update(None, ARM, rig.now)
         rig.now += 0.5
     assert rig.feed.state == FeedState.LISTENING and rig.switched == []
 
@@ -59,7 +59,7 @@ def test_no_rest_without_a_measurement_of_every_joint():
 def test_motion_restarts_the_wait():
     rig = Rig()
     rig.quiet(REST_DELAY - 0.5)
-    rig.feed.update("RArm homing", True, rig.now)
+    rig.feed.update("RArm waiting", ARM, rig.now)
     rig.quiet(REST_DELAY - 0.5)
     assert rig.feed.state == FeedState.LISTENING, "the quiet spell starts again after the motion"
     rig.quiet(1.0)
@@ -69,14 +69,39 @@ def test_motion_restarts_the_wait():
 def test_motion_while_resting_listens_again_and_releases_the_measurements():
     rig = Rig()
     rig.quiet(REST_DELAY + 0.5)
-    rig.feed.update("another node moves RArm", False, rig.now)
+    rig.feed.update("another node moves RArm", ARM, rig.now)
     assert rig.feed.state == FeedState.LISTENING
     assert rig.switched == [False, True]
     rig.now += MAX_AGE + 0.01
     assert rig.cache.positions(ARM) is None, "the held measurements no longer count"
     assert rig.lines[-1] == "animateBehaviour: joint states: resting -> listening (another node moves RArm)."
-    rig.feed.update("enabled", True, rig.now)
+    rig.feed.update("RArm waiting", ARM, rig.now)
     assert rig.switched == [False, True], "already listening: nothing to switch"
+
+
+def test_a_joint_at_rest_without_a_current_measurement_is_measured_then_held_again():
+    rig = Rig()
+    rig.quiet(REST_DELAY + 0.5)
+    rig.cache.moving(ARM[:1])  # a goal of ours moved it, and was cancelled: where it stopped, nothing says
+    rig.feed.update(None, (), rig.now)
+    assert rig.feed.state == FeedState.RESTING, "driven by a goal of ours: not measured while it runs"
+    rig.feed.update(None, ARM, rig.now)
+    assert rig.feed.state == FeedState.LISTENING and rig.switched == [False, True]
+    rig.quiet(REST_DELAY + 0.5)
+    assert rig.feed.state == FeedState.RESTING and rig.switched == [False, True, False]
+
+
+def test_joints_that_a_goal_of_ours_drives_are_not_held():
+    rig = Rig()
+    rig.cache.moving(ARM[:1])
+    end = rig.now + REST_DELAY + 0.5
+    while rig.now < end:
+        rig.measure()
+        rig.feed.update(None, ARM[1:], rig.now)
+        rig.now += 0.5
+    assert rig.feed.state == FeedState.RESTING
+    rig.now += 600.0
+    assert rig.cache.complete(ARM[1:]) and not rig.cache.complete(ARM[:1])
 
 
 def test_listen_while_resting_and_while_listening():

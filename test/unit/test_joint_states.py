@@ -97,7 +97,7 @@ def test_something_that_is_not_a_joint_state_is_ignored():
 def test_held_measurements_stay_current_until_released():
     rig = Rig()
     rig.cache.update(rig.message())
-    rig.cache.hold()
+    rig.cache.hold(ARM)
     rig.now += 60.0
     numpy.testing.assert_array_equal(rig.cache.positions(ARM), [1.5, -0.1])
     assert rig.cache.complete(ARM)
@@ -106,6 +106,44 @@ def test_held_measurements_stay_current_until_released():
     assert not rig.cache.complete(ARM)
     rig.cache.update(rig.message(positions=(1.4, 0.0)))
     numpy.testing.assert_array_equal(rig.cache.positions(ARM), [1.4, 0.0])
+
+
+def test_a_motion_of_ours_makes_the_older_measurements_of_its_joints_no_longer_count():
+    rig = Rig()
+    rig.cache.update(rig.message())
+    rig.cache.hold(ARM)
+    rig.now += 0.1
+    rig.cache.moving(ARM[:1])
+    assert rig.cache.positions(ARM) is None and rig.cache.complete(ARM[1:]), "the other joint stays held"
+    rig.now += 0.1
+    rig.cache.update(rig.message(positions=(1.2, -0.1)))
+    numpy.testing.assert_array_equal(rig.cache.positions(ARM), [1.2, -0.1])  # measured since
+    assert rig.reports == []
+
+
+def test_a_measurement_stamped_before_the_motion_began_does_not_count():
+    rig = Rig()
+    rig.cache.moving(ARM)
+    rig.cache.update(rig.message(stamp=rig.now - 0.01))
+    assert rig.cache.positions(ARM) is None
+    rig.cache.update(rig.message(stamp=rig.now))
+    assert rig.cache.positions(ARM) is not None
+
+
+def test_where_a_goal_of_ours_left_the_joints_is_current_and_held_while_nothing_is_listened_to():
+    rig = Rig()
+    rig.cache.update(rig.message())
+    rig.cache.hold(ARM)
+    rig.cache.moving(ARM)
+    rig.now += 5.0
+    rig.cache.settle(ARM, numpy.array([0.3, -0.2]))
+    rig.now += 600.0
+    numpy.testing.assert_array_equal(rig.cache.positions(ARM), [0.3, -0.2])
+    rig.cache.release()
+    rig.cache.moving(ARM)
+    rig.cache.settle(ARM, [0.4, -0.2])
+    rig.now += MAX_AGE + 0.01
+    assert rig.cache.positions(ARM) is None, "listening: it ages as a measurement does"
 
 
 def test_complete_needs_every_joint_current_and_reports_nothing():

@@ -3,13 +3,13 @@ import numpy
 import pytest
 from actionlib_msgs.msg import GoalStatus
 from conftest import default_configuration
-from fakes import FakeClient, FakeLog
+from fakes import FakeClient, FakeJointStates, FakeLog
 from control_msgs.msg import FollowJointTrajectoryResult
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.core.foreign_motion import RESULT_GRACE
 from cssr_system.core.motion_stream import StreamState as PartState
-from cssr_system.core.part_stream import (LOST_RESULT_GRACE, MAX_UNFINISHED_GOALS, MEASURE_LEAD, RETRY_DELAY,
+from cssr_system.core.part_stream import (LOST_RESULT_GRACE, MAX_UNFINISHED_GOALS, RETRY_DELAY,
                                           TRANSITIONS, PartStream)
 from cssr_system.motion.breathing import CONTINUATION_LEAD
 from cssr_system.motion.planners import GOAL_TIME_TOLERANCE, SETTLE_TIME, RandomPlanner
@@ -31,7 +31,8 @@ class Rig:
         self.debug_lines = []
         self.warnings = []
         self.measured = measured
-        self.stream = PartStream(part, ACTION, self.client, lambda: self.now, lambda joints: self.measured,
+        self.joint_states = FakeJointStates(lambda joints: self.measured)
+        self.stream = PartStream(part, ACTION, self.client, lambda: self.now, self.joint_states,
                                  self.posted.append, self.log,
                                  debug=lambda text, *args: self.debug_lines.append(text % args),
                                  warn=lambda text, *args: self.warnings.append(text % args))
@@ -533,21 +534,45 @@ def test_a_continuous_goal_sent_before_the_clock_runs_is_continued_before_its_en
     assert rig.stream.next_deadline() == pytest.approx(5000.0 + ending_start - CONTINUATION_LEAD)
 
 
-def test_the_measured_joints_are_needed_but_while_a_goal_of_ours_runs_until_its_last_second():
+def test_the_measured_joints_are_needed_while_the_part_waits_but_never_while_a_goal_of_ours_runs():
     rig = Rig(connected=False)
     rig.enable()
-    assert rig.stream.needs_measurements(rig.now), "waiting for the controller"
+    assert rig.stream.needs_measurements(), "waiting for the controller: it starts again from them"
     rig.stream.controller_connected()
-    end = rig.goal_end_time()
-    assert not rig.stream.needs_measurements(rig.now)
-    assert not rig.stream.needs_measurements(end - MEASURE_LEAD - 0.01)
-    assert rig.stream.needs_measurements(end - MEASURE_LEAD), "its end is judged by them, the next goal starts there"
+    assert rig.stream.drives_joints and not rig.stream.needs_measurements()
+    assert rig.joint_states.moved == [PARTS["RArm"].joints], "the goal takes the joints away from their measurements"
+    rig.now = rig.goal_end_time()
+    assert not rig.stream.needs_measurements(), "not even at its end: the controller holds its last point"
     rig.stream.disable(home=True)
-    end = rig.goal_end_time()
-    assert not rig.stream.needs_measurements(min(rig.now, end - MEASURE_LEAD - 0.01)) or end - rig.now <= MEASURE_LEAD
-    assert rig.stream.needs_measurements(end - MEASURE_LEAD), "at the centre soon: measured there"
+    assert rig.stream.drives_joints and not rig.stream.needs_measurements(), "returning home"
     rig.stream.controller_lost()
-    assert rig.stream.needs_measurements(rig.now), "the controller is gone: the joints may be anywhere"
+    assert rig.stream.needs_measurements(), "the controller is gone: the joints may be anywhere"
+
+
+def test_a_goal_that_succeeds_leaves_the_joints_at_its_last_point_and_the_next_goal_starts_there():
+    rig = Rig(measured=None)
+    rig.enable()
+    last = rig.client.handles[-1].goal.trajectory.points[-1].positions
+    rig.now = rig.goal_end_time()
+    rig.finish_last(GoalStatus.SUCCEEDED)
+    assert rig.joint_states.settled == [(PARTS["RArm"].joints, pytest.approx(list(last)))]
+    rig.finish_last(GoalStatus.ABORTED)
+    assert len(rig.joint_states.settled) == 1, "an aborted goal left the joints where nothing says"
+
+
+def test_an_abort_for_the_end_state_needs_a_measurement_to_be_judged_only_when_none_is_current():
+    rig = Rig(measured=None)
+    rig.enable()
+    rig.now = rig.goal_end_time()
+    rig.client.handles[-1].finish(GoalStatus.ABORTED, FollowJointTrajectoryResult.GOAL_TOLERANCE_VIOLATED, "moving")
+    ended = rig.posted[-1]
+    assert rig.stream.end_needs_measurement(ended)
+    rig.measured = numpy.array(rig.client.handles[-1].goal.trajectory.points[-1].positions)
+    assert not rig.stream.end_needs_measurement(ended), "measured: judged at once"
+    rig.measured = None
+    assert not rig.stream.end_needs_measurement(ended._replace(error_code=-1)), "an abort for another reason"
+    rig.now -= 1.0
+    assert not rig.stream.end_needs_measurement(ended), "before its end: a failure, whatever the joints"
 
 
 def test_without_a_measurement_the_next_goal_starts_where_the_ended_goal_left_the_joints():

@@ -4,17 +4,19 @@ import threading
 
 import pytest
 from actionlib_msgs.msg import GoalStatus
+from control_msgs.msg import FollowJointTrajectoryResult
 from conftest import default_configuration
-from fakes import FakeClient, FakeLog
+from fakes import FakeClient, FakeJointStates, FakeLog
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.core.base_stream import BaseStream
 from cssr_system.core.events import (AnimateCancel, AnimateGoal, ControllerConnected, Disable,
-                                     Enable, GoalDone, Reconfigure)
+                                     Enable, GoalDone, Reconfigure, Shutdown)
 from cssr_system.core.joint_states import FeedState
-from cssr_system.core.part_stream import MEASURE_LEAD, PartStream
+from cssr_system.core.part_stream import PartStream
 from cssr_system.core.session import CANCELLED, DISABLED, DURATION_ELAPSED, HOME_LEAD, REPLACED
-from cssr_system.core.supervisor import Supervisor
+from cssr_system.core.supervisor import JUDGE_POLL, JUDGE_WAIT, Supervisor
+from cssr_system.pepper.joint_table import PARTS
 
 TOPICS = {"RArm": "/pepper_dcm/RightArm_controller/follow_joint_trajectory",
           "Leg": "/pepper_dcm/Pelvis_controller/follow_joint_trajectory"}
@@ -45,23 +47,21 @@ class FakeFeed:
 
     def __init__(self):
         self.why = []  # each update's reason to listen (None: none)
+        self.still = []  # each update's joints that no goal of ours drives
+        self.listened = []  # each reason to listen at once
 
-    def update(self, busy, measured, now):
+    def update(self, busy, still, now):
         self.why.append(busy)
+        self.still.append(list(still))
 
     def listen(self, why):
-        pass
-
-
-class FakeJointStates:
-    @staticmethod
-    def complete(joints):
-        return True
+        self.listened.append(why)
 
 
 class Rig:
     def __init__(self):
         self.now = 50.0
+        self.measured = {}  # by part: the measured positions of its joints (none: unknown)
         self.log = FakeLog()
         self.clients = {}
         self.action = FakeActionServer()
@@ -69,7 +69,7 @@ class Rig:
         self.shown = []
         self.feed = FakeFeed()
         self.supervisor = Supervisor(lambda: self.now, self.log, self.make_part, self.make_base,
-                                     lambda *status: self.statuses.append(status), FakeJointStates(), self.feed,
+                                     lambda *status: self.statuses.append(status), self.feed,
                                      self.report_error, self.action, self.shown.append)
         self.supervisor.config = CONFIG
         for key, action in TOPICS.items():
@@ -78,7 +78,8 @@ class Rig:
 
     def make_part(self, part, action):
         self.clients[part] = FakeClient()
-        return PartStream(part, action, self.clients[part], lambda: self.now, lambda joints: None,
+        return PartStream(part, action, self.clients[part], lambda: self.now,
+                          FakeJointStates(lambda joints, part=part: self.measured.get(part)),
                           self.supervisor.events.put, self.log, debug=lambda *args: None, warn=lambda *args: None)
 
     def make_base(self, topic):
@@ -227,15 +228,64 @@ def test_goal_results_reach_the_streams():
     assert rig.goals("RArm") == before + 1
 
 
-def test_joint_states_are_not_needed_while_every_part_runs_a_goal_until_the_last_second_of_one():
+def test_joint_states_are_not_needed_while_every_part_runs_a_goal_of_ours():
     rig = Rig()
     assert rig.feed.why[-1] is None, "disabled: at rest"
     enable(rig)
     assert rig.feed.why[-1] is None, "every part runs a goal of ours: the goals say where the joints are"
-    rig.now = min(stream._sent.end_time for stream in rig.supervisor.part_streams()) - MEASURE_LEAD
-    rig.supervisor.step(0.0)
-    assert rig.feed.why[-1] is not None, "a goal ends soon: its end and the next goal start from the measured joints"
+    assert rig.feed.still[-1] == [], "no joint is still"
+    rig.now = max(stream._sent.end_time for stream in rig.supervisor.part_streams())
+    rig.finish_running_goals()
+    assert rig.feed.why[-1] is None, "the next goals start where the ended ones left the joints"
     rig.post(Disable("disabled", threading.Event()))
     rig.now = max(stream._sent.end_time for stream in rig.supervisor.part_streams())
+    rig.finish_running_goals()
+    assert rig.feed.why[-1] is None, "at the centre"
+    assert sorted(rig.feed.still[-1]) == sorted(PARTS["RArm"].joints + PARTS["Leg"].joints), "every joint is still"
+
+
+def aborted_at_its_end(rig, part="RArm"):
+    """The part's running goal ends ABORTED for its end state, at its end; its number."""
+    stream = rig.supervisor.parts[TOPICS[part]]
+    rig.now = stream._sent.end_time
+    rig.clients[part].handles[-1].finish(GoalStatus.ABORTED, FollowJointTrajectoryResult.GOAL_TOLERANCE_VIOLATED,
+                                         "RShoulderPitch still moving")
     rig.supervisor.step(0.0)
-    assert "homing" in rig.feed.why[-1], "the return home ends: the joints at rest are measured"
+    return stream._sent.number
+
+
+def test_an_abort_for_the_end_state_waits_for_a_measurement_then_is_judged():
+    rig = Rig()
+    enable(rig)
+    number = aborted_at_its_end(rig)
+    assert rig.feed.listened[-1] == "judging the end of RArm goal %d" % number
+    assert rig.feed.why[-1] == rig.feed.listened[-1], "listened to until measured"
+    assert rig.log.events(contract.GOAL_FINISHED) == [] and rig.goals("RArm") == number, "not judged yet"
+    assert rig.supervisor._next_timeout() == pytest.approx(JUDGE_POLL)
+    rig.measured["RArm"] = rig.supervisor.parts[TOPICS["RArm"]]._sent.last_positions
+    rig.supervisor.step(0.0)
+    finished = rig.log.events(contract.GOAL_FINISHED)[-1]
+    assert finished["state"] == "ABORTED" and finished["reached"] is True, "judged from the measurement"
+    assert rig.goals("RArm") == number + 1 and rig.feed.why[-1] is None
+
+
+def test_an_end_that_no_measurement_reaches_is_judged_after_its_wait_as_a_failure():
+    rig = Rig()
+    enable(rig)
+    aborted_at_its_end(rig)
+    rig.now += JUDGE_WAIT - 0.01
+    rig.supervisor.step(0.0)
+    assert rig.log.events(contract.GOAL_FINISHED) == []
+    rig.now += 0.01
+    rig.supervisor.step(0.0)
+    assert rig.log.events(contract.GOAL_FINISHED)[-1]["reached"] is False
+    assert rig.supervisor.parts[TOPICS["RArm"]].state.value == "waiting", "tried again later"
+
+
+def test_an_end_waiting_for_a_measurement_at_shutdown_is_logged_as_it_ended():
+    rig = Rig()
+    enable(rig)
+    aborted_at_its_end(rig)
+    rig.post(Shutdown("signal", threading.Event()))
+    states = {(fields["part"], fields["state"]) for fields in rig.log.events(contract.GOAL_FINISHED)}
+    assert ("RArm", "ABORTED") in states

@@ -18,7 +18,8 @@ drive it with a fake topic and a fake clock:
 - ``topic``: the front-end's shared JointAngles publisher (ros1/joint_angles_topic.py on ROS 1,
   ros2/joint_angles_topic.py on ROS 2: ``name``, ``send(angles, now)``, ``listened()``);
 - ``clock``: seconds, on the clock naoqi_driver's joints move on (0 while a simulated clock does not run yet);
-- ``positions``: the measured positions of a list of joints, or None when unknown;
+- ``joint_states``: where the joints are (core/joint_states.py's JointStateCache: ``positions(joints)``, the current
+  positions or None when unknown; ``moving(joints)``, calls of ours move them);
 - at each enable, a `motion.planners.Planner` of the part's motion style;
 - ``log``: the event log; ``debug`` and ``warn``: console lines (core/console.py by default).
 """
@@ -70,14 +71,14 @@ class JointAngleStream(PartMotionStream):
     not_connected = "naoqi_driver not listening"
 
     def __init__(self, part: str, action: str, topic, clock: Callable[[], float],
-                 positions: Callable[[tuple], Optional[numpy.ndarray]], log,
+                 joint_states, log,
                  debug: Callable[..., None] = console.debug, warn: Callable[..., None] = console.warning) -> None:
         super().__init__(part, topic.name, TRANSITIONS, log, debug)
         self.action = action  # the topic file's name of the part: the supervisor's key of this stream
         self.topic = topic
         self.motion: Optional[PartMotion] = None
         self._clock = clock
-        self._positions = positions
+        self._joint_states = joint_states
         self._warn = warn
         self._plan: Optional[Planner] = None
         self._followed: Optional[JointTrajectorySpline] = None  # the planned trajectory the stream follows
@@ -104,11 +105,7 @@ class JointAngleStream(PartMotionStream):
 
     def disable(self, home: bool, planned: Optional[streaming.JointAngles] = None) -> None:
         """Stop the stream at once, then one call (`plan_stop`, or `planned` made by it a moment ago)."""
-        if self.state in (IDLE, HOMING):
-            return
-        if self.state == YIELDING:  # the other node owns the part: send nothing
-            self.yielding_to = ""
-            self.transition_to(IDLE, "disabled while yielding")
+        if self._disabled_without_sending():
             return
         now = self._clock()
         call = planned or self.plan_stop(home)
@@ -117,6 +114,7 @@ class JointAngleStream(PartMotionStream):
         if call is None:
             self.transition_to(IDLE, "disabled")
             return
+        self._joint_states.moving(self.joints)
         self.topic.send(call, now)
         if not home:
             self.transition_to(IDLE, "disabled; stopped where the joints are")
@@ -212,7 +210,13 @@ class JointAngleStream(PartMotionStream):
         self._log_planned(PURPOSE_ANIMATE, timed.times, timed.positions)
         self._animated = True
         self._homing_until = None
+        self._joint_states.moving(self.joints)
         self.transition_to(ANIMATING, why)
+
+    @property
+    def drives_joints(self) -> bool:
+        """Calls of ours move the part: the plan, not a measurement, says where its joints are."""
+        return self.state in (ANIMATING, HOMING)
 
     def _current_state(self, now: float):
         """Positions, velocities and accelerations to plan from: the followed plan's (it holds its last point
@@ -224,7 +228,7 @@ class JointAngleStream(PartMotionStream):
 
     def _where_now(self, now: float) -> numpy.ndarray:
         """The measured joints, else where the latest call has brought them by `now`, else the centre."""
-        measured = self._positions(self.joints)
+        measured = self._joint_states.positions(self.joints)
         if measured is not None:
             return numpy.asarray(measured, dtype=float)
         if self._sent is not None:

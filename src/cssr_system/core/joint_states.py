@@ -1,5 +1,5 @@
-"""The measured joints, from /joint_states (README: "Faults"): the latest position of every joint
-(`JointStateCache`), and whether the node listens at all (`JointStateFeed`, `SubscriptionSwitch`).
+"""The measured joints (README: "Faults"): where every joint is (`JointStateCache`), and whether the node listens
+to /joint_states at all (`JointStateFeed`, `SubscriptionSwitch`).
 
 A message is used only when it is sound: as many positions as names, every position finite, a stamp neither far in
 the past nor in the future of the node's clock (ROS time; a zero stamp counts as "now"). Each joint keeps its own
@@ -8,17 +8,23 @@ MAX_AGE seconds; planning asks for whole parts and gets None when one of its joi
 and then plans as without a measurement. Each kind of problem is reported once, to the `report` callable; nothing
 here ever raises into rospy's callback thread. Pure Python: the clock and the report are injected.
 
-/joint_states comes 50 times a second, and each message costs rospy a thread wake-up and a decode: most of what the
-node spends. A joint moves only when its controller is told to: by a goal or setAngles call of ours, or by another
-node's goal, ``command`` trajectory or setAngles call, which the node sees on the controller's status and command
-topics and on the JointAngles topic. And while a goal of ours runs, the node knows where the joints are: the goal
-says so. So the feed listens only while a stream needs the measured joints (`needs_measurements`: a part that waits,
-yields or streams setAngles calls; a goal stream from MEASURE_LEAD before the end of its goal, animating or
-returning home, whose judgement and the next goal start from them) or another node moves a part. Once none does
-and every joint has a current measurement, for REST_DELAY seconds, the feed holds the measurements
-(`JointStateCache.hold` keeps them current however old they grow; nothing reads them while they are held but a plan
-that starts from the joints at rest) and unsubscribes. It listens again when a stream needs them, when another node
-moves a part, and when a controller comes or goes (a restarted controller may have moved its joints).
+/joint_states comes 50 times a second, and each message costs the client library a thread wake-up and a decode: on
+ROS 2 more than everything else the node does. So the node reads the measured joints only when a decision needs them:
+- where a part starts when enabled or resumed: the joints at rest, measured once and then held (below);
+- whether a goal that the controller aborted for its end state reached its end: a fresh measurement, read then
+  (core/supervisor.py waits for it, JUDGE_WAIT at most);
+- whether another node's motion has calmed, and where a part waiting for its controller or a retry starts: the feed
+  listens while that lasts.
+A goal of ours needs no measurement: the controller plays it, so the plan says where the joints are while it runs,
+and a goal that SUCCEEDED leaves them at its last point, where the controller holds them (`settle`). A joint-angle
+stream stops where its calls have brought the joints. `moving` marks the joints a motion of ours takes away from
+their measurements: a measurement older than that no longer counts for them.
+
+The feed listens while a decision needs the measured joints (`busy`), and while some joint that no motion of ours
+drives has no current measurement. Once neither holds, for REST_DELAY seconds, it holds those joints' measurements
+(`JointStateCache.hold`: they stay current however old they grow, until a motion of ours or another node's moves
+them) and unsubscribes. It listens again when a decision needs them, when another node moves a part, and when a
+controller comes or goes (a restarted controller may have moved its joints).
 
 `JointStateCache` and `JointStateFeed` are pure (the clock, the report and the switching are injected);
 `SubscriptionSwitch` subscribes and unsubscribes on its own thread, because registering with the master may wait
@@ -27,7 +33,7 @@ for it.
 import enum
 import math
 import threading
-from typing import Callable, Dict, Optional, Sequence, Tuple
+from typing import Callable, Dict, Optional, Sequence, Set, Tuple
 
 import numpy
 
@@ -49,7 +55,9 @@ class JointStateCache:
         self._lock = threading.Lock()
         self._joints: Dict[str, Tuple[float, float]] = {}  # name -> (position, stamp)
         self._reported = set()
-        self._held = False  # the measurements stay current: nothing moves and nothing is listened to
+        self._moved_at: Dict[str, float] = {}  # name -> when a motion of ours last took it away from its measurement
+        self._resting = False  # /joint_states is not listened to
+        self._held: Set[str] = set()  # joints whose measurement stays current: nothing moves them
 
     def _report_once(self, kind: str, text: str) -> None:
         if kind not in self._reported:
@@ -89,38 +97,63 @@ class JointStateCache:
                 self._joints[name] = (position, stamp)
 
     def _measurements(self, joints: Sequence[str]):
-        """(now, the (position, stamp) of each of `joints` or None)."""
+        """The (position, stamp) of each of `joints` or None, and whether each is current, read at once."""
         now = self._clock()
         with self._lock:
-            return now, [self._joints.get(name) for name in joints]
+            measured = [self._joints.get(name) for name in joints]
+            current = [value is not None and self._current(name, value[1], now)
+                       for name, value in zip(joints, measured)]
+        return measured, current
 
-    def _current(self, stamp: float, now: float) -> bool:
-        return self._held or now - stamp <= MAX_AGE
+    def _current(self, name: str, stamp: float, now: float) -> bool:
+        """Held, or recent and taken since a motion of ours last moved the joint."""
+        return name in self._held or (now - stamp <= MAX_AGE and stamp >= self._moved_at.get(name, stamp))
 
     def positions(self, joints: Sequence[str]) -> Optional[numpy.ndarray]:
         """Current positions of `joints`, or None when one of them has no current measurement."""
-        now, measured = self._measurements(joints)
+        measured, current = self._measurements(joints)
         if any(value is None for value in measured):
             missing = [name for name, value in zip(joints, measured) if value is None]
             self._report_once("missing " + ",".join(missing), "%s: no measurement of %s; planning from the plan "
                                                               "instead" % (self._topic, ", ".join(missing)))
             return None
-        if not all(self._current(stamp, now) for _, stamp in measured):
+        if not all(current):
             return None
         return numpy.array([position for position, _ in measured], dtype=float)
 
     def complete(self, joints: Sequence[str]) -> bool:
         """True when every one of `joints` has a current measurement (reports only bad messages)."""
-        now, measured = self._measurements(joints)
-        return all(value is not None and self._current(value[1], now) for value in measured)
+        return all(self._measurements(joints)[1])
 
-    def hold(self) -> None:
-        """The robot rests and /joint_states is no longer listened to: the last measurements stay current."""
-        self._held = True
+    def moving(self, joints: Sequence[str]) -> None:
+        """A motion of ours moves `joints` from now: their measurements so far no longer say where they are."""
+        now = self._clock()
+        with self._lock:
+            for name in joints:
+                self._moved_at[name] = now
+                self._held.discard(name)
+
+    def settle(self, joints: Sequence[str], positions: Sequence[float]) -> None:
+        """A goal of ours brought `joints` to `positions`, where the controller holds them: as good as a measurement
+        of now, and held while /joint_states is not listened to."""
+        now = self._clock()
+        with self._lock:
+            for name, position in zip(joints, positions):
+                self._joints[name] = (float(position), now)
+                if self._resting:
+                    self._held.add(name)
+
+    def hold(self, joints: Sequence[str]) -> None:
+        """/joint_states is no longer listened to, and nothing moves `joints`: their measurements stay current."""
+        with self._lock:
+            self._resting = True
+            self._held = set(joints)
 
     def release(self) -> None:
         """Listening again: measurements age as before (the held ones are soon too old, then replaced)."""
-        self._held = False
+        with self._lock:
+            self._resting = False
+            self._held.clear()
 
 
 class FeedState(enum.Enum):
@@ -140,18 +173,21 @@ class JointStateFeed:
         self._debug("%s: joint states: %s -> %s (%s).", NODE_NAME, self.state.value, new_state.value, why)
         self.state = new_state
 
-    def update(self, busy: Optional[str], measured: bool, now: float) -> None:
-        """`busy`: why the joints may move (None: the robot is quiet); `measured`: every joint has a current
-        measurement; `now`: the node's clock."""
+    def update(self, busy: Optional[str], still: Sequence[str], now: float) -> None:
+        """`busy`: why a decision needs the measured joints (None: none does); `still`: the joints that no motion of
+        ours drives, to be measured, then held; `now`: the node's clock."""
         if busy is not None:
             self.listen(busy)
             return
+        measured = self._cache.complete(still)
         if self.state == FeedState.RESTING:
+            if not measured:  # a motion of ours ended where no plan says (cancelled, say): measure its joints
+                self.listen("a joint at rest has no current measurement")
             return
         if self._quiet_since is None or now < self._quiet_since:  # a clock set back starts the wait again
             self._quiet_since = now
         if measured and now - self._quiet_since >= REST_DELAY:
-            self._cache.hold()
+            self._cache.hold(still)
             self._switch(False)
             self.transition_to(FeedState.RESTING, "quiet for %.1f s" % (now - self._quiet_since))
 

@@ -101,10 +101,27 @@ class PartMotionStream(MotionStream):
     _command_count = 0  # numbers other nodes' command-topic trajectories
     not_connected = "controller not connected"
 
-    def needs_measurements(self, now: float) -> bool:
-        """Whether /joint_states must be listened to while the stream is active (always, unless a subclass knows
-        better: a joint-angle stream stops from the measured joints)."""
-        return True
+    @property
+    def drives_joints(self) -> bool:
+        """A motion of ours moves the part now: its plan, not a measurement, says where the joints are."""
+        raise NotImplementedError
+
+    def needs_measurements(self) -> bool:
+        """Whether a decision needs the measured joints while the stream is active: not while a motion of ours drives
+        the part (a goal that succeeds leaves the joints at its last point, a stop starts from the plan); while the
+        part waits for its controller or a retry (it starts again from them) or yields, it does."""
+        return not self.drives_joints
+
+    def _disabled_without_sending(self) -> bool:
+        """What a disable does alike on every part stream: nothing, where nothing of ours runs or returns home; the
+        part idle and nothing sent, where another node owns it. True when that is the whole disable."""
+        if self.state in (StreamState.IDLE, StreamState.HOMING):
+            return True
+        if self.state == StreamState.YIELDING:
+            self.yielding_to = ""
+            self.transition_to(StreamState.IDLE, "disabled while yielding")
+            return True
+        return False
 
     def plan_start(self, plan, quiet_time: float = DEFAULT_QUIET_TIME):
         """The first motion `enable(motion, plan, quiet_time)` sends at once, made now without sending it (None: it

@@ -10,7 +10,9 @@ drive it with a fake action client and a fake clock:
 - ``client``: the front-end's FollowJointTrajectory client (core/goals.py: ``goal``, ``send``, and ``ready()``: its
   action server answers);
 - ``clock``: seconds, on the clock the controller executes goals on (0 while a simulated clock does not run yet);
-- ``positions``: the measured positions of a list of joints, or None when unknown;
+- ``joint_states``: where the joints are (core/joint_states.py's JointStateCache: ``positions(joints)``, the current
+  positions or None when unknown; ``moving(joints)``, a goal of ours moves them; ``settle(joints, positions)``, a goal
+  of ours left them there);
 - ``post``: puts an event on the supervisor's queue (actionlib calls back from its own threads);
 - at each enable, a `motion.planners.Planner` of the part's motion style;
 - ``log``: the event log; ``debug`` and ``warn``: console lines (core/console.py by default).
@@ -45,9 +47,6 @@ LOST_RESULT_GRACE = 5.0  # s after a goal's end before a missing result counts a
 # every joint is this close to its last point.
 END_TIME_SLACK = 0.1  # s
 END_POSITION_TOLERANCE = 0.01  # rad
-# s before the end of a running goal of ours when the measured joints are wanted again (core/joint_states.py: the feed
-# subscribes, and the first message comes well within this).
-MEASURE_LEAD = 1.0
 
 IDLE, ANIMATING, YIELDING, WAITING, HOMING = (StreamState.IDLE, StreamState.ANIMATING, StreamState.YIELDING,
                                               StreamState.WAITING, StreamState.HOMING)
@@ -64,14 +63,14 @@ class PartStream(PartMotionStream):
     """One controller's goal stream. Only the supervisor thread calls its methods."""
 
     def __init__(self, part: str, action: str, client, clock: Callable[[], float],
-                 positions: Callable[[tuple], Optional[numpy.ndarray]], post: Callable[[object], None], log,
+                 joint_states, post: Callable[[object], None], log,
                  debug: Callable[..., None] = console.debug, warn: Callable[..., None] = console.warning) -> None:
         super().__init__(part, action, TRANSITIONS, log, debug)
         self.client = client
         self.motion: Optional[PartMotion] = None
         self.retry_at: Optional[float] = None
         self._clock = clock
-        self._positions = positions
+        self._joint_states = joint_states
         self._post = post
         self._warn = warn
         self._plan: Optional[Planner] = None
@@ -110,11 +109,7 @@ class PartStream(PartMotionStream):
         """Stop: one return-to-centre goal when `home` (and a goal of ours moves the part), else cancel.
         `planned`: that goal, from `plan_stop(home)` a moment ago (planned now when None)."""
         self.retry_at = None
-        if self.state in (IDLE, HOMING):
-            return
-        if self.state == YIELDING:  # the other node owns the part: send nothing
-            self.yielding_to = ""
-            self.transition_to(IDLE, "disabled while yielding")
+        if self._disabled_without_sending():
             return
         if self._returns_home(home):
             timed = self._dispatch(planned or self.plan_stop(home))
@@ -138,6 +133,8 @@ class PartStream(PartMotionStream):
         self._log_finished(event.goal_number, sent, state_name, event.error_code, event.error_string, reached)
         if not current:
             return  # a goal we replaced or cancelled: its end changes nothing
+        if reached:  # the controller holds the joints at the goal's last point: the next goal starts there
+            self._joint_states.settle(PARTS[self.part].joints, sent.last_positions)
         if reached or sent.purpose == PURPOSE_HOME:
             self._failures = 0
             self._finish_goal("goal %d %s" % (event.goal_number, state_name))
@@ -178,12 +175,21 @@ class PartStream(PartMotionStream):
         the controller judged the joints still moving) once it had played out with the joints at its last point."""
         if event.state == SUCCEEDED:
             return True
-        if (event.state != ABORTED or event.error_code != GOAL_TOLERANCE_VIOLATED
-                or self._clock() < sent.end_time - END_TIME_SLACK):
+        if not self._aborted_for_its_end_state(sent, event):
             return False
         measured = self.measured_positions()
         return measured is not None and float(numpy.max(numpy.abs(measured - sent.last_positions))) <= \
             END_POSITION_TOLERANCE
+
+    def _aborted_for_its_end_state(self, sent: RunningGoal, event: GoalDone) -> bool:
+        return (event.state == ABORTED and event.error_code == GOAL_TOLERANCE_VIOLATED
+                and self._clock() >= sent.end_time - END_TIME_SLACK)
+
+    def end_needs_measurement(self, event: GoalDone) -> bool:
+        """Whether this goal's end is judged from the measured joints and none is current yet: the supervisor then
+        has them measured and hands the end over once they are (or after a short wait)."""
+        sent = self._unfinished.get(event.goal_number)
+        return sent is not None and self._aborted_for_its_end_state(sent, event) and self.measured_positions() is None
 
     def _retry_later(self, sent: RunningGoal, number: int, state_name: str, error_string: str) -> None:
         now = self._clock()
@@ -197,13 +203,10 @@ class PartStream(PartMotionStream):
         self.retry_at = now + delay
         self.transition_to(WAITING, "goal %d %s; retry in %.0f s" % (number, state_name, delay))
 
-    def needs_measurements(self, now: float) -> bool:
-        """Whether /joint_states must be listened to: not while a goal of ours runs (animating or returning home),
-        until MEASURE_LEAD before its end (the next goal and the judgement of its end start from the measured
-        joints)."""
-        if self.state not in (ANIMATING, HOMING) or self._sent is None or not self._sent.dated:
-            return True
-        return now >= self._sent.end_time - MEASURE_LEAD
+    @property
+    def drives_joints(self) -> bool:
+        """A goal of ours runs on the part: the plan, not a measurement, says where its joints are."""
+        return self.state in (ANIMATING, HOMING) and self._sent is not None
 
     def controller_ready(self) -> bool:
         """For the controller watcher: the controller's action server answers."""
@@ -313,16 +316,17 @@ class PartStream(PartMotionStream):
         self.transition_to(ANIMATING, why)
 
     def measured_positions(self) -> Optional[numpy.ndarray]:
-        return self._positions(PARTS[self.part].joints)
+        return self._joint_states.positions(PARTS[self.part].joints)
 
     def current_state(self, now: float):
         """Positions, velocities and accelerations to start the next goal from: what the controller is executing
-        for us (it splices new goals onto that), else the measured joints, else the centre."""
+        for us (it splices new goals onto that), else the joints as measured or as a goal of ours that succeeded left
+        them, else where the ended goal left them, else the centre."""
         joints = PARTS[self.part].joints
         if self._sent is not None and self._sent.dated and now <= self._sent.end_time:
             positions, velocities, accelerations = self._sent.spline.sample(now)
             return numpy.asarray(positions), numpy.asarray(velocities), numpy.asarray(accelerations)
-        measured = self._positions(joints)
+        measured = self._joint_states.positions(joints)
         if measured is None and self._sent is not None and self._sent.dated:
             measured = numpy.asarray(self._sent.spline.sample(now)[0])
         if measured is None:
@@ -346,6 +350,7 @@ class PartStream(PartMotionStream):
         def done(state: str, error_code: Optional[int], error_string: str, part=self.part, action=self.action):
             self._post(GoalDone(part, action, number, state, error_code, error_string))
 
+        self._joint_states.moving(PARTS[self.part].joints)
         handle = self.client.send(outgoing.goal, done)
         for unfinished in self._unfinished.values():  # none of them runs for us any more
             unfinished.release()

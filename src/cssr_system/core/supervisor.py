@@ -9,7 +9,7 @@ tests drive it with fakes.
 """
 import queue
 import threading
-from typing import Callable, Dict, List, Optional
+from typing import Callable, Dict, List, Optional, Tuple
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import TRAJECTORY_ACTUATION, Configuration, configuration_items
@@ -31,6 +31,11 @@ from cssr_system.motion.waypoints import animated_parts, make_rng, narrow_bands
 from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, PARTS
 
 LONGEST_WAIT = 0.5  # s the supervisor sleeps at most while anything may be due
+# A goal's end judged from the measured joints (core/part_stream.py: an abort for the end state only) waits this long
+# at most for a current measurement, looking every JUDGE_POLL s: the feed subscribes, and its first message comes well
+# within it.
+JUDGE_WAIT = 0.5  # s
+JUDGE_POLL = 0.02  # s
 
 
 class Supervisor:
@@ -38,14 +43,14 @@ class Supervisor:
 
     `clock`: the clock the controllers execute goals on; `log`: the event log; `make_part(part, action)` and
     `make_base(topic)`: new streams (with their clients and watches); `publish_status(enabled, parts, bases)`;
-    `joint_states`: the measured joints (`complete(joints)`); `feed`: whether /joint_states is listened to;
+    `feed`: whether /joint_states is listened to (core/joint_states.py);
     `report_error(where, error)`: an unexpected error, in one line; `action`: the front-end's animate action server,
     which ends the action's goals and publishes their feedback (`accept`, `succeed`, `stop`, `feedback`);
     `sync_settings(config)`: tells the front-end's live settings (dynamic_reconfigure, ROS 2 parameters) the
     settings a service or the action brought."""
 
     def __init__(self, clock: Callable[[], float], log, make_part: Callable[[str, str], PartStream],
-                 make_base: Callable[[str], BaseStream], publish_status: Callable[..., None], joint_states, feed,
+                 make_base: Callable[[str], BaseStream], publish_status: Callable[..., None], feed,
                  report_error: Callable[[str, Exception], None], action=None,
                  sync_settings: Callable[[Configuration], None] = lambda config: None) -> None:
         self.events: "queue.Queue" = queue.Queue()
@@ -54,7 +59,6 @@ class Supervisor:
         self._make_part = make_part
         self._make_base = make_base
         self._publish_status = publish_status
-        self._joint_states = joint_states
         self._feed = feed
         self._report_error = report_error
         self._action = action
@@ -70,6 +74,7 @@ class Supervisor:
         self.config: Optional[Configuration] = None
         self.rng = None
         self._band_warnings: List[str] = []  # the robot driver's dead band: what the console last said
+        self._judging: List[Tuple[float, GoalDone]] = []  # ends waiting for a measurement, with their deadlines
         self.stopped = threading.Event()
         self.on_end: Callable[[], None] = lambda: None  # told when the thread ends
         self.thread = threading.Thread(target=self._supervise, name="supervisor", daemon=True)
@@ -160,12 +165,14 @@ class Supervisor:
         deadlines = [stream.next_deadline() for stream in self.parts.values()]
         deadlines += [base.next_deadline(now) for base in self.bases.values()]
         deadlines += [self.session.next_deadline()] if self.session is not None else []
+        deadlines += [now + JUDGE_POLL] if self._judging else []
         deadlines = [deadline - now for deadline in deadlines if deadline is not None]
         if not deadlines and not self.enabled and self._feed.state == FeedState.RESTING:
             return None  # at rest nothing is due until an event comes: no wake-ups while nothing moves
         return min([LONGEST_WAIT] + [max(0.0, deadline) for deadline in deadlines])
 
     def _tick(self) -> None:
+        self._hand_over_judged_ends(self.clock())
         for stream in list(self.parts.values()):
             stream.tick()
         now = self.clock()
@@ -175,22 +182,34 @@ class Supervisor:
             self._tick_session(now)
 
     def _update_feed(self) -> None:
-        """/joint_states is listened to while the measured joints are needed (core/joint_states.py)."""
+        """/joint_states is listened to while a decision needs the measured joints (core/joint_states.py)."""
         streams = self.part_streams()
-        now = self.clock()
-        busy = self._why_joints_may_move(streams, now)
-        measured = busy is None and self._joint_states.complete(
-            [joint for stream in streams for joint in PARTS[stream.part].joints])
-        self._feed.update(busy, measured, now)
+        still = [joint for stream in streams if not (stream.active and stream.drives_joints)
+                 for joint in PARTS[stream.part].joints]
+        self._feed.update(self._why_measurements_are_needed(streams, self.clock()), still, self.clock())
 
-    def _why_joints_may_move(self, streams: List[PartStream], now: float) -> Optional[str]:
-        """Why the measured joints are needed now (None: they are not)."""
+    def _why_measurements_are_needed(self, streams: List[PartStream], now: float) -> Optional[str]:
+        """Why a decision needs the measured joints now (None: none does)."""
+        if self._judging:
+            event = self._judging[0][1]
+            return "judging the end of %s goal %d" % (event.part, event.goal_number)
         for stream in streams:
-            if stream.active and stream.needs_measurements(now):
+            if stream.active and stream.needs_measurements():
                 return "%s %s" % (stream.part, stream.state.value)
             if not stream.foreign.calm(now):
                 return "another node moves %s" % stream.part
         return None
+
+    def _hand_over_judged_ends(self, now: float, at_exit: bool = False) -> None:
+        """Hands each goal end that waits for a measurement to its stream once one is current, or its wait is over."""
+        waiting = []
+        for deadline, event in self._judging:
+            stream = self.parts[event.action]
+            if at_exit or now >= deadline or stream.measured_positions() is not None:
+                stream.goal_done(event)
+            else:
+                waiting.append((deadline, event))
+        self._judging = waiting
 
     # -- events -------------------------------------------------------------------------------------
     def _on_enable(self, event: Enable) -> None:
@@ -210,6 +229,7 @@ class Supervisor:
         before their results come."""
         self._report_disabled(self._disable(), event.reason)
         self._end_session(DISABLED)
+        self._hand_over_judged_ends(self.clock(), at_exit=True)
         for stream in self.part_streams():
             stream.finish_at_exit()
 
@@ -260,8 +280,13 @@ class Supervisor:
 
     def _on_goal_done(self, event: GoalDone) -> None:
         stream = self.parts.get(event.action)
-        if stream is not None:
-            stream.goal_done(event)
+        if stream is None:
+            return
+        if stream.end_needs_measurement(event):  # measured first (core/joint_states.py), then judged
+            self._judging.append((self.clock() + JUDGE_WAIT, event))
+            self._feed.listen("judging the end of %s goal %d" % (event.part, event.goal_number))
+            return
+        stream.goal_done(event)
 
     def _on_controller_connected(self, event: ControllerConnected) -> None:
         if event.action in self.bases:

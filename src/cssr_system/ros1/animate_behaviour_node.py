@@ -68,7 +68,7 @@ class AnimateBehaviourNode:
         self.live_settings = LiveSettingsServer(load_node_configuration, post)
         self.action = AnimateActionServer(load_node_configuration, post)
         self.supervisor = Supervisor(self.clock, self.log, self._make_part, self._make_base, self.status.publish,
-                                     self.joint_states, self.feed, self.report_error, self.action,
+                                     self.feed, self.report_error, self.action,
                                      self.live_settings.show)
         self.services = ActivationServices(self.supervisor.events.put, self.log)
         self._watcher = ControllerWatcher(self.supervisor.controlled_streams, self.supervisor.events.put, self.log,
@@ -104,9 +104,8 @@ class AnimateBehaviourNode:
     def _make_part(self, part: str, action: str) -> PartStream:
         self.watch.watch_controller(action)  # other nodes' goals still move the part where pepper_dcm runs too
         if self.joint_angles is not None:
-            return JointAngleStream(part, action, self.joint_angles, self.clock, self.joint_states.positions,
-                                    self.log)
-        return PartStream(part, action, TrajectoryClient(action), self.clock, self.joint_states.positions,
+            return JointAngleStream(part, action, self.joint_angles, self.clock, self.joint_states, self.log)
+        return PartStream(part, action, TrajectoryClient(action), self.clock, self.joint_states,
                           self.supervisor.events.put, self.log)
 
     def _make_base(self, topic: str) -> BaseStream:

@@ -79,7 +79,7 @@ class AnimateBehaviourNode:
         self.status = StatusPublisher(node)
         self.action = AnimateActionServer(node, self.parameters.load, self._post, self.report_error)
         self.supervisor = Supervisor(self.clock, self.log, self._make_part, self._make_base, self.status.publish,
-                                     self.joint_states, self.feed, self.report_error, self.action)
+                                     self.feed, self.report_error, self.action)
         self._watcher = ControllerWatcher(self.supervisor.controlled_streams, self._post, self.log,
                                           self.supervisor.stopped, self.report_error)
         self.watch = ForeignCommandWatch(node, self.own_goals, self._post, self.clock, self.report_error,
@@ -117,10 +117,9 @@ class AnimateBehaviourNode:
     def _make_part(self, part: str, action: str):
         self.watch.watch_controller(action)
         if self.joint_angles is not None:
-            return JointAngleStream(part, action, self.joint_angles, self.clock, self.joint_states.positions,
-                                    self.log)
+            return JointAngleStream(part, action, self.joint_angles, self.clock, self.joint_states, self.log)
         return PartStream(part, action, TrajectoryClient(self.node, action, self.own_goals), self.clock,
-                          self.joint_states.positions, self._post, self.log)
+                          self.joint_states, self._post, self.log)
 
     def _make_base(self, topic: str) -> BaseStream:
         self.watch.watch_base(topic)
