@@ -232,7 +232,7 @@ def test_another_clients_goal_is_yielded_to_and_resumed_from(trajectory_run):
                                             qos_profile_action_status_default)
     assert wait_until(lambda: statuses and any(status.status == GoalStatus.STATUS_EXECUTING
                                                for status in statuses[-1].status_list), 3.0), "the node's goal runs"
-    client.node.destroy_subscription(watch)
+    client.executor.create_task(client.node.destroy_subscription, watch)  # not from this thread while it spins
     goal = FollowJointTrajectory.Goal()
     goal.trajectory.joint_names = list(ARM)
     goal.trajectory.points = [JointTrajectoryPoint(positions=list(PARTS["RArm"].centre), velocities=[0.0] * 5,

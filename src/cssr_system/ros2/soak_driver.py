@@ -144,7 +144,9 @@ class Ros2Driver:
         if present and self._listener is None:
             self._listener = self.ros.create_subscription(Twist, self._base, lambda message: None, 1)
         elif not present and self._listener is not None:
-            self.ros.destroy_subscription(self._listener)
+            # Ended on the executor's thread: rclpy 7.1's executor fails (InvalidHandle) when another thread destroys
+            # a subscription while it builds its wait set.
+            self.ros.executor.create_task(self.ros.destroy_subscription, self._listener)
             self._listener = None
 
     def stop(self) -> None:
