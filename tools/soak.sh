@@ -5,7 +5,7 @@
 #   SOAK_DURATION (minutes judged, default 60), SOAK_WARM_UP (minutes before them, not judged, default 10),
 #   SOAK_ROS (1 or 2, default 1; 2 exits 3 where no Python suits the ROS 2 wheels),
 #   SOAK_SEED (the churn's, default 1), SOAK_RESTART_MINUTES (between restarts of the simulated Pepper, default 10),
-#   SOAK_SIM_CLOCK (ROS 1: 1, the default, adds a second robot on a simulated clock from the warm-up's end; 0: none),
+#   SOAK_SIM_CLOCK (ROS 1: 1, the default, adds a second robot on a simulated clock from mid-warm-up; 0: none),
 #   SOAK_REPORT (default doc/soak-latest.md; "" for none), SOAK_TRACEMALLOC (1: the node's allocations traced, a
 #   snapshot every 5 minutes in the run's folder; tools/soak_snapshots.py compares them), SOAK_DOMAIN_ID (ROS 2's;
 #   default: one no process of this machine uses), SOAK_FOLDER (the run's files, default <workspace>/soak/rosN),

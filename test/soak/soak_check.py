@@ -2,7 +2,7 @@
 of warm-up, the simulated Pepper restarted once, at 1 minute, the base's listener away from 2 minutes to 2.5) with
 generous bounds: no traceback, no goal of the node rejected (but by the restart), no reply failed, threads and open
 files flat, and another node's gesture succeeding (one may lose a race to the controller: doc/soak.md). On ROS 1 the
-same holds for the second robot, on a simulated clock from the warm-up's end (its one gesture is not required)."""
+same holds for the second robot, on a simulated clock from 15 s on (its one gesture is not required)."""
 import json
 import os
 import subprocess

@@ -1,7 +1,7 @@
 """`make soak ROS=1` (doc/soak.md): the ROS 1 driver of a soak. A master of its own, the simulated Pepper and the
 node as processes of the run, and this process's clients: setActivation, dynamic_reconfigure, the animate action,
-another node's gesture on the right arm and the base's listener. From the end of the warm-up a second robot (in
-namespace robot2: its simulated Pepper and node) runs on a simulated clock that this process publishes, under the
+another node's gesture on the right arm and the base's listener. From half-way through the warm-up a second robot
+(in namespace robot2: its simulated Pepper and node) runs on a simulated clock that this process publishes, under the
 same churn, and is judged on its own. The run itself (schedule, sampling, figures) is cssr_system.soak's.
 
 python3 -m cssr_system.ros1.soak_driver --minutes 60 --warm-up 10 --folder DIR --json FILE
@@ -196,8 +196,8 @@ class SimulatedClock:
 
 
 class SimulatedClockRobot:
-    """The second robot, on the simulated clock from the end of the warm-up to the end of the run, judged apart
-    (its result beside the run's: <json>-sim-clock.json)."""
+    """The second robot, on the simulated clock from half-way through the warm-up to the end of the run, judged apart
+    with a warm-up of its own (its result beside the run's: <json>-sim-clock.json)."""
 
     def __init__(self, options) -> None:
         self.options = options
@@ -208,7 +208,9 @@ class SimulatedClockRobot:
         self.thread = threading.Thread(target=self._run, name="simulated-clock robot", daemon=True)
 
     def _run(self) -> None:
-        start = 60.0 * self.options.warm_up
+        # Half-way through the first robot's warm-up: its restarts then fall half-way between the first robot's (one
+        # process starts at a time, so two restarts at once would keep a simulated Pepper away longer).
+        start = 30.0 * self.options.warm_up
         if self._cancelled.wait(start):
             return
         try:

@@ -109,7 +109,7 @@ def arguments(argv: List[str]) -> argparse.Namespace:
     parser.add_argument("--restart-minutes", type=float, default=RESTART_PERIOD / 60.0,
                         help="minutes between restarts of the simulated Pepper (the first at half of it)")
     parser.add_argument("--sim-clock", type=int, choices=(0, 1), default=1,
-                        help="ROS 1: 1 (default) adds a second robot on a simulated clock from the warm-up's end")
+                        help="ROS 1: 1 (default) adds a second robot on a simulated clock from mid-warm-up")
     parser.add_argument("--folder", required=True, help="the run's folder: output of every process, the log")
     parser.add_argument("--json", required=True, help="the run's result")
     return parser.parse_args(argv)
