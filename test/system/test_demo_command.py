@@ -64,13 +64,21 @@ def run_demo(output_dir, interrupt_after=None, **options):
     master_uri = "http://localhost:%d" % free_port()
     environment = dict(os.environ, DEMO_OUTPUT_DIR=str(output_dir), DEMO_MASTER_URI=master_uri,
                        **{"DEMO_" + key: str(value) for key, value in options.items()})
+    return run_in_process_group(["bash", os.path.join(REPO_DIR, "tools", "demo.sh")], environment, interrupt_after,
+                                240, "ROS_MASTER_URI=" + master_uri)
+
+
+def run_in_process_group(command, environment, interrupt_after, timeout, marker):
+    """Runs `command` in a process group of its own, as from a terminal; with `interrupt_after`, SIGINT to the group
+    after the first output line holding that text. Returns (exit status, output, seconds from the interrupt to the
+    exit); fails when a process holding `marker` in its environment survives the run."""
     # As from a terminal: SIGINT not ignored, even where this test runs in the background of a shell without job
     # control (which starts it with SIGINT ignored, and a shell cannot trap a signal ignored when it starts).
-    demo = subprocess.Popen(["bash", os.path.join(REPO_DIR, "tools", "demo.sh")], cwd=REPO_DIR, env=environment,
-                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, universal_newlines=True,
-                            start_new_session=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    demo = subprocess.Popen(command, cwd=REPO_DIR, env=environment, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                            universal_newlines=True, start_new_session=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     lines, interrupted_at = [], None
-    deadline = time.monotonic() + 240
+    deadline = time.monotonic() + timeout
     try:
         for line in demo.stdout:
             lines.append(line)
@@ -86,12 +94,11 @@ def run_demo(output_dir, interrupt_after=None, **options):
     stop_time = time.monotonic() - interrupted_at if interrupted_at is not None else None
     output = "".join(lines)
     sys.stdout.write(output)  # shown by pytest when the test fails
-
     settle = time.monotonic() + 3.0
-    survivors = processes_with("ROS_MASTER_URI=" + master_uri)
+    survivors = processes_with(marker)
     while survivors and time.monotonic() < settle:
         time.sleep(0.2)
-        survivors = processes_with("ROS_MASTER_URI=" + master_uri)
+        survivors = processes_with(marker)
     assert survivors == [], "processes left running by the demo: %s" % survivors
     return status, output, stop_time
 

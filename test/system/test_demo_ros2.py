@@ -3,16 +3,13 @@ with Ctrl-C. Each leaves a valid PNG and a recording whose joints moved within t
 process it started survives. On the distribution CSSR_ROS2_DISTRO names (tools/ros2/env.sh: Jazzy by default). Skipped
 only where tools/ros2/setup.sh cannot make the ROS 2 environment."""
 import os
-import signal
 import subprocess
-import sys
-import time
 import uuid
 
 import numpy
 import pytest
 
-from test_demo_command import PNG_SIGNATURE, processes_with, status_lines
+from test_demo_command import PNG_SIGNATURE, run_in_process_group, status_lines
 
 REPO_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 DEMO_DURATION = 6
@@ -49,34 +46,7 @@ def run_demo(command, output_dir, interrupt_after=None, **options):
                        **{"DEMO_" + key: str(value) for key, value in options.items()})
     for name in ("MAKELEVEL", "MAKEFLAGS", "MFLAGS"):  # run by `make test`: `make demo` as typed in a shell
         environment.pop(name, None)
-    # As from a terminal: SIGINT not ignored, even where pytest runs in the background of a shell.
-    demo = subprocess.Popen(command, cwd=REPO_DIR, env=environment, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
-                            universal_newlines=True, start_new_session=True,
-                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
-    lines, interrupted_at = [], None
-    deadline = time.monotonic() + RUN_TIMEOUT
-    try:
-        for line in demo.stdout:
-            lines.append(line)
-            if interrupt_after is not None and interrupted_at is None and interrupt_after in line:
-                os.killpg(demo.pid, signal.SIGINT)
-                interrupted_at = time.monotonic()
-            if time.monotonic() > deadline:
-                break
-        status = demo.wait(timeout=max(1.0, deadline - time.monotonic()))
-    finally:
-        if demo.poll() is None:
-            os.killpg(demo.pid, signal.SIGKILL)
-    stop_time = time.monotonic() - interrupted_at if interrupted_at is not None else None
-    output = "".join(lines)
-    sys.stdout.write(output)  # shown by pytest when the test fails
-    settle = time.monotonic() + 3.0
-    survivors = processes_with("CSSR_DEMO_TEST_RUN=" + run)
-    while survivors and time.monotonic() < settle:
-        time.sleep(0.2)
-        survivors = processes_with("CSSR_DEMO_TEST_RUN=" + run)
-    assert survivors == [], "processes left running by the demo: %s" % survivors
-    return status, output, stop_time
+    return run_in_process_group(command, environment, interrupt_after, RUN_TIMEOUT, "CSSR_DEMO_TEST_RUN=" + run)
 
 
 def check_plot_and_recording(output, output_dir):

@@ -11,7 +11,8 @@ from cssr_system.pepper.joint_table import (BASE_MAX_ANGULAR_ACCELERATION, BASE_
 from cssr_system.pepper.simulated_pepper import (COMMANDED, INVALID_GOAL, INVALID_JOINTS, PLATFORMS, SUCCESSFUL,
                                                  GoalPoint, MoveToBase, SimulatedController, SimulatedPepper,
                                                  VelocityBase, action_namespace, base_topic, odometry_topic,
-                                                 posture, yaw_quaternion)
+                                                 posture, yaw_quaternion, LimitViolation, MAX_VIOLATIONS_DESCRIBED,
+                                                 describe_violations)
 
 LEG = PARTS["Leg"]  # HipPitch, HipRoll, KneePitch
 EPSILON = 1e-9
@@ -454,3 +455,11 @@ def test_limit_violations_are_counted_over_all_controllers():
         hand = pepper.controllers[key]
         hand.submit("goal", list(hand.joint_names), [point(1.0, [1.5])], 0.0)
     assert pepper.limit_violation_count == 2
+
+
+def test_a_goal_beyond_the_limits_is_described_in_one_line_of_its_first_values():
+    violations = [LimitViolation("RShoulderPitch", 2.2 + index, 2.0857, index) for index in range(6)]
+    line = describe_violations(violations)
+    assert line.startswith("point 0 RShoulderPitch = 2.2 beyond its limit 2.0857; point 1 RShoulderPitch = 3.2")
+    assert line.count("beyond its limit") == MAX_VIOLATIONS_DESCRIBED
+    assert line.endswith("; and 2 more")

@@ -195,6 +195,19 @@ class LimitViolation(NamedTuple):
     point_index: int  # index of the point in the goal
 
 
+MAX_VIOLATIONS_DESCRIBED = 4  # per goal, so one bad goal makes one readable warning
+
+
+def describe_violations(violations: Sequence[LimitViolation]) -> str:
+    """One line naming a goal's first values beyond the joint limits, and how many more there are."""
+    described = ["point {} {} = {:.5g} beyond its limit {:.5g}".format(
+        violation.point_index, violation.joint, violation.value, violation.limit)
+        for violation in violations[:MAX_VIOLATIONS_DESCRIBED]]
+    if len(violations) > MAX_VIOLATIONS_DESCRIBED:
+        described.append("and {} more".format(len(violations) - MAX_VIOLATIONS_DESCRIBED))
+    return "; ".join(described)
+
+
 class Acceptance(NamedTuple):
     """The answer to a goal. When rejected, nothing changed."""
 
@@ -228,6 +241,16 @@ class ControllerUpdate(NamedTuple):
         return JointTrajectoryState(self.desired.positions - self.actual.positions,
                                     self.desired.velocities - self.actual.velocities,
                                     numpy.zeros(len(self.desired.positions)))
+
+    def feedback_points(self) -> Dict[str, Dict[str, List[float]]]:
+        """The action feedback's `desired`, `actual` and `error` points of this update (each a JointTrajectoryPoint's
+        fields, in the controller's joint order), as joint_trajectory_controller fills them: nothing measures
+        accelerations, so only the desired state has them."""
+        desired, actual, error = self.desired, self.actual, self.error
+        return {"desired": dict(positions=desired.positions.tolist(), velocities=desired.velocities.tolist(),
+                                accelerations=desired.accelerations.tolist()),
+                "actual": dict(positions=actual.positions.tolist(), velocities=actual.velocities.tolist()),
+                "error": dict(positions=error.positions.tolist(), velocities=error.velocities.tolist())}
 
 
 class _Constraints(NamedTuple):
@@ -967,3 +990,19 @@ class SimulatedPepper:
 def yaw_quaternion(heading: float) -> Tuple[float, float, float, float]:
     """(x, y, z, w) of a rotation by `heading` about z."""
     return 0.0, 0.0, math.sin(heading / 2.0), math.cos(heading / 2.0)
+
+
+def fill_state_messages(stamp, joints: JointStateSample, base: BaseState, joint_state, odometry,
+                        commanded: Optional[JointStateSample] = None, commanded_message=None) -> None:
+    """Fills one control update's messages, of either ROS (their fields have the same names): `joint_state`
+    (sensor_msgs JointState, its names set once), `odometry` (nav_msgs Odometry) and, where a driver is modelled,
+    `commanded_message` (a JointState of what the driver commanded)."""
+    joint_state.header.stamp = stamp
+    joint_state.position, joint_state.velocity = joints.positions, joints.velocities
+    if commanded is not None:
+        commanded_message.header.stamp = stamp
+        commanded_message.position, commanded_message.velocity = commanded.positions, commanded.velocities
+    odometry.header.stamp = stamp
+    orientation = odometry.pose.pose.orientation
+    orientation.x, orientation.y, orientation.z, orientation.w = yaw_quaternion(base.heading)
+    odometry.twist.twist.angular.z = base.angular_velocity

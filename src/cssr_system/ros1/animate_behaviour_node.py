@@ -2,6 +2,7 @@
 clients, the base publisher and the subscriptions, and hands them to the supervisor (core/supervisor.py), which owns
 the motion state.
 """
+import gc
 import os
 import threading
 from typing import Dict, Optional
@@ -39,6 +40,20 @@ from cssr_system.ros1.status import StatusPublisher
 from cssr_system.ros1.trajectory_client import TrajectoryClient, rehearse
 
 JOINT_STATES_QUEUE = 1  # only the latest /joint_states message matters
+
+
+class Subscription:
+    """A subscription the joint-state switch can end (`unregister`)."""
+
+    def __init__(self, subscriber: rospy.Subscriber) -> None:
+        self._subscriber = subscriber
+
+    def unregister(self) -> None:
+        """Ends the subscription, and collects at once what it leaves: rospy's poller of an ended subscription is
+        a reference cycle that holds an epoll descriptor open until the collector's next full pass. The start-up's
+        objects are out of the collector's sight (animate_behaviour_main.py), so this takes about a millisecond."""
+        self._subscriber.unregister()
+        gc.collect()
 
 
 class AnimateBehaviourNode:
@@ -119,8 +134,9 @@ class AnimateBehaviourNode:
             publisher.publish(twist)
         return BaseStream(topic, turn, lambda: has_subscriber_other_than(publisher, rospy.get_caller_id()), self.log)
 
-    def _subscribe_joint_states(self) -> rospy.Subscriber:
-        return rospy.Subscriber(JOINT_STATES_TOPIC, JointState, self.joint_states.update, queue_size=JOINT_STATES_QUEUE)
+    def _subscribe_joint_states(self) -> "Subscription":
+        return Subscription(rospy.Subscriber(JOINT_STATES_TOPIC, JointState, self.joint_states.update,
+                                             queue_size=JOINT_STATES_QUEUE))
 
     @staticmethod
     def _rehearse(config: Configuration, topics: Dict[str, str]) -> None:

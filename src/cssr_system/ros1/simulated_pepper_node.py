@@ -63,12 +63,11 @@ from cssr_system.pepper.joint_table import command_topic, JOINTS, WHEEL_JOINTS
 from cssr_system.pepper.simulated_pepper import (CONTROL_RATE, GOAL_TIME, MEASURED, PLATFORMS, POSTURES,
                                                  STOPPED_VELOCITY_TOLERANCE, SUCCESSFUL, GoalPoint, GoalTolerances,
                                                  SimulatedPepper, action_namespace, base_topic,
-                                                 check_loop_settings, odometry_topic, yaw_quaternion, DRIVERS,
-                                                 IDEAL, NAOQI_DRIVER)
+                                                 check_loop_settings, describe_violations, fill_state_messages,
+                                                 odometry_topic, DRIVERS, IDEAL, NAOQI_DRIVER)
 
 NODE_NAME = "simulatedPepper"
 UPDATE_RATE = 50.0  # Hz: stepping the model (its control loop catches up), /joint_states and odometry
-MAX_VIOLATIONS_LOGGED = 4  # per goal, so one bad goal makes one readable warning
 JOINT_ANGLES_TOPIC = "joint_angles"  # naoqi_driver's setAngles topic, in the namespace
 
 
@@ -211,13 +210,8 @@ class SimulatedPepperNode:
             outcome.goal.set_aborted(result, outcome.error_string)
 
     def _report_violations(self, controller_name: str, violations) -> None:
-        described = ["point {} {} = {:.5g} beyond its limit {:.5g}".format(
-            violation.point_index, violation.joint, violation.value, violation.limit)
-            for violation in violations[:MAX_VIOLATIONS_LOGGED]]
-        if len(violations) > MAX_VIOLATIONS_LOGGED:
-            described.append("and {} more".format(len(violations) - MAX_VIOLATIONS_LOGGED))
         rospy.logwarn("%s: %s goal beyond the joint limits, executed at the limits: %s", NODE_NAME,
-                      controller_name, "; ".join(described))
+                      controller_name, describe_violations(violations))
         self._publish_violations()
 
     def _publish_violations(self) -> None:
@@ -270,22 +264,12 @@ class SimulatedPepperNode:
             now = self._now()
             joints = self.model.joint_state(now)
             base = self.model.base_state(now)
+            commanded = self.model.driver_commands(now) if self.model.driver is not None else None
         stamp = rospy.Time.from_sec(now + self._epoch)
-        self._joint_state.header.stamp = stamp
-        self._joint_state.position = joints.positions
-        self._joint_state.velocity = joints.velocities
+        fill_state_messages(stamp, joints, base, self._joint_state, self._odometry, commanded, self._commanded)
         self.joint_state_publisher.publish(self._joint_state)
-        if self.model.driver is not None:
-            with self._lock:
-                commanded = self.model.driver_commands(now)
-            self._commanded.header.stamp = stamp
-            self._commanded.position = commanded.positions
-            self._commanded.velocity = commanded.velocities
+        if commanded is not None:
             self.commanded_publisher.publish(self._commanded)
-        self._odometry.header.stamp = stamp
-        orientation = self._odometry.pose.pose.orientation
-        orientation.x, orientation.y, orientation.z, orientation.w = yaw_quaternion(base.heading)
-        self._odometry.twist.twist.angular.z = base.angular_velocity
         self.odometry_publisher.publish(self._odometry)
         if self._feedback_period is not None and now >= self._next_feedback:
             self._next_feedback = now + self._feedback_period
@@ -300,17 +284,9 @@ class SimulatedPepperNode:
                     update = controller.last_update
                 if goal_handle is None:
                     continue
-                # As the controller's feedback: its last update, in its joint order; nothing measures accelerations.
-                desired, actual, error = update.desired, update.actual, update.error
-                feedback = FollowJointTrajectoryFeedback(
+                feedback = FollowJointTrajectoryFeedback(  # as the controller's: its last update
                     joint_names=list(controller.joint_names),
-                    desired=JointTrajectoryPoint(positions=desired.positions.tolist(),
-                                                 velocities=desired.velocities.tolist(),
-                                                 accelerations=desired.accelerations.tolist()),
-                    actual=JointTrajectoryPoint(positions=actual.positions.tolist(),
-                                                velocities=actual.velocities.tolist()),
-                    error=JointTrajectoryPoint(positions=error.positions.tolist(),
-                                               velocities=error.velocities.tolist()))
+                    **{name: JointTrajectoryPoint(**point) for name, point in update.feedback_points().items()})
                 feedback.header.stamp = rospy.Time.from_sec(update.time + self._epoch)
                 goal_handle.publish_feedback(feedback)
 

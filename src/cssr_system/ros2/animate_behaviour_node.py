@@ -48,7 +48,9 @@ class Subscription:
         self._subscription = subscription
 
     def unregister(self) -> None:
-        self._node.destroy_subscription(self._subscription)
+        """Ends the subscription on the executor's thread: rclpy's executor fails (InvalidHandle) when another
+        thread destroys a subscription while it builds its wait set."""
+        self._node.executor.create_task(self._node.destroy_subscription, self._subscription)
 
 
 class AnimateBehaviourNode:

@@ -68,12 +68,11 @@ from cssr_system.pepper.simulated_pepper import (CONTROL_RATE, DRIVERS, GOAL_TIM
                                                  NAOQI_DRIVER, PLATFORMS, POSTURES, STOPPED_VELOCITY_TOLERANCE,
                                                  SUCCESSFUL, GoalOutcome, GoalPoint, GoalTolerances, SimulatedPepper,
                                                  action_namespace, base_topic, check_loop_settings, odometry_topic,
-                                                 yaw_quaternion)
+                                                 describe_violations, fill_state_messages)
 from cssr_system.ros2.program import on_signals, run_node
 
 NODE_NAME = "simulatedPepper"
 UPDATE_RATE = 50.0  # Hz: stepping the model (its control loop catches up), /joint_states and odometry
-MAX_VIOLATIONS_LOGGED = 4  # per goal, so one bad goal makes one readable warning
 JOINT_ANGLES_TOPIC = "joint_angles"  # naoqi_driver2's setAngles topic, in the namespace
 TRAJECTORY_TOPIC_NAME = "joint_trajectory"  # ROS 2 joint_trajectory_controller's topic (ROS 1's is "command")
 # What ros2_controllers' joint_trajectory_controller (Jazzy, Kilted, Rolling) gives a goal that a new goal replaces.
@@ -382,13 +381,8 @@ class SimulatedPepperNode:
             outcome.goal.decide(ABORTED, outcome.error_code, outcome.error_string)
 
     def _report_violations(self, controller_name: str, violations) -> None:
-        described = ["point {} {} = {:.5g} beyond its limit {:.5g}".format(
-            violation.point_index, violation.joint, violation.value, violation.limit)
-            for violation in violations[:MAX_VIOLATIONS_LOGGED]]
-        if len(violations) > MAX_VIOLATIONS_LOGGED:
-            described.append("and {} more".format(len(violations) - MAX_VIOLATIONS_LOGGED))
         self.logger.warning("{} goal beyond the joint limits, executed at the limits: {}".format(
-            controller_name, "; ".join(described)))
+            controller_name, describe_violations(violations)))
         self._publish_violations()
 
     def _publish_violations(self) -> None:
@@ -459,19 +453,10 @@ class SimulatedPepperNode:
             stamp = self._stamp(now)
         for key, outcome in ended:
             self._deliver(self.model.controllers[key].name, [outcome])
-        self._joint_state.header.stamp = stamp
-        self._joint_state.position = joints.positions
-        self._joint_state.velocity = joints.velocities
+        fill_state_messages(stamp, joints, base, self._joint_state, self._odometry, commanded, self._commanded)
         self.joint_state_publisher.publish(self._joint_state)
         if commanded is not None:
-            self._commanded.header.stamp = stamp
-            self._commanded.position = commanded.positions
-            self._commanded.velocity = commanded.velocities
             self.commanded_publisher.publish(self._commanded)
-        self._odometry.header.stamp = stamp
-        orientation = self._odometry.pose.pose.orientation
-        orientation.x, orientation.y, orientation.z, orientation.w = yaw_quaternion(base.heading)
-        self._odometry.twist.twist.angular.z = base.angular_velocity
         self.odometry_publisher.publish(self._odometry)
         if self._feedback_period is not None and now >= self._next_feedback:
             self._next_feedback = now + self._feedback_period
@@ -484,17 +469,9 @@ class SimulatedPepperNode:
                 stamp = self._stamp(update.time)
             if goal is None:
                 continue
-            # As the controller's feedback: its last update, in its joint order; nothing measures accelerations.
-            desired, actual, error = update.desired, update.actual, update.error
-            feedback = FollowJointTrajectory.Feedback(
+            feedback = FollowJointTrajectory.Feedback(  # as the controller's: its last update
                 joint_names=list(controller.joint_names),
-                desired=JointTrajectoryPoint(positions=desired.positions.tolist(),
-                                             velocities=desired.velocities.tolist(),
-                                             accelerations=desired.accelerations.tolist()),
-                actual=JointTrajectoryPoint(positions=actual.positions.tolist(),
-                                            velocities=actual.velocities.tolist()),
-                error=JointTrajectoryPoint(positions=error.positions.tolist(),
-                                           velocities=error.velocities.tolist()))
+                **{name: JointTrajectoryPoint(**point) for name, point in update.feedback_points().items()})
             feedback.header.stamp = stamp
             goal.handle.publish_feedback(feedback)
 
