@@ -220,6 +220,11 @@ def test_a_run_plays_the_schedule_samples_the_process_and_sets_each_end_beside_t
     assert "animate goals and gestures not ending as expected" in text and "NO" in text
 
 
+def test_each_runs_plot_has_a_plain_file_name():
+    assert [report.plot_name(ros) for ros in ("1", "2", "1, simulated clock")] == [
+        "soak-latest-ros1.png", "soak-latest-ros2.png", "soak-latest-ros1-simulated-clock.png"]
+
+
 def test_the_enabled_spells_are_shaded_from_each_enable_to_the_next_disable():
     marks = [[60.0, "enable", {}], [90.0, "setting", {}], [120.0, "disable", {}], [180.0, "enable", {}],
              [240.0, "setting", {}]]

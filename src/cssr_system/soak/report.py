@@ -8,6 +8,7 @@ its "ros" field)
 import argparse
 import json
 import os
+import re
 import sys
 from typing import Dict, List
 
@@ -148,6 +149,11 @@ def _mark_churn(axis, result: dict) -> None:
             axis.axvline(at / 60.0, color="grey", linewidth=0.4, alpha=0.3)
 
 
+def plot_name(ros: str) -> str:
+    """The plot's file name of a run on ROS `ros` (e.g. "1, simulated clock": soak-latest-ros1-simulated-clock.png)."""
+    return "soak-latest-ros%s.png" % re.sub(r"[^0-9a-z]+", "-", ros.lower()).strip("-")
+
+
 def main(argv: List[str]) -> int:
     parser = argparse.ArgumentParser(description="The soak's report from its results (JSON).")
     parser.add_argument("results", nargs="+", help="a run's JSON; a missing one is left out")
@@ -161,7 +167,7 @@ def main(argv: List[str]) -> int:
             results[str(result.get("ros", "?"))] = result
     folder = os.path.dirname(os.path.abspath(arguments.markdown))
     for ros, result in results.items():
-        name = "soak-latest-ros%s.png" % ros
+        name = plot_name(ros)
         plot(result, os.path.join(folder, name))
         plots[ros] = name
     with open(arguments.markdown, "w") as stream:
