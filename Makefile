@@ -23,8 +23,8 @@ benchmark:
 	$(foreach option,$(BENCHMARK_OPTIONS),$(if $(filter command line,$(origin $(option))),BENCHMARK_$(option)='$(subst ','\'',$($(option)))')) \
 	bash tools/benchmark.sh
 
-# make soak DURATION=60 WARM_UP=10 ROS=1|2 SEED=1 TRACEMALLOC=1 (or SOAK_DURATION, ... in the environment): doc/soak.md.
-SOAK_OPTIONS := DURATION WARM_UP ROS SEED TRACEMALLOC
+# make soak DURATION=60 WARM_UP=10 ROS=1|2 SEED=1 TRACEMALLOC=1 SIM_CLOCK=0 (or SOAK_DURATION, ... in the environment): doc/soak.md.
+SOAK_OPTIONS := DURATION WARM_UP ROS SEED TRACEMALLOC SIM_CLOCK
 soak:
 	$(foreach option,$(SOAK_OPTIONS),$(if $(filter command line,$(origin $(option))),SOAK_$(option)='$(subst ','\'',$($(option)))')) \
 	bash tools/soak.sh

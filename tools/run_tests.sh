@@ -84,13 +84,23 @@ done
 # Three lanes, the longest jobs first (most of their time is waiting for nodes), so the rest fill in beside them: the
 # system tests, one job (they build in the workspace one after the other; the rostests read nothing that a build
 # rewrites), and each rostest with its own master, port and ROS_HOME files.
-# The 3-minute soak tests (test/soak/, doc/soak.md) are not among them: beside the ROS 2 tests, their load made a
-# timing test of those fail; `python3 -m pytest test/soak` runs them.
 longest=(test/system test/animate_behaviour_robot.test test/controller_verdicts_12hz.test
          test/controller_verdicts_50hz.test)
-log_step "system tests (pytest) and integration tests (rostest), three at a time (output: $RESULTS_DIR/rostest/)"
+# The 3-minute soak of each front-end (test/soak/, doc/soak.md) mostly waits for its nodes, as the ROS 2 lane does: both
+# run beside the lanes, not in them; each prints its line once the lanes are done.
+soaks=(test/soak/test_soak_ros1.py test/soak/test_soak_ros2.py)
+expected+=(soak_ros1.xml soak_ros2.xml)
+soak_jobs=()
+for job in "${soaks[@]}"; do
+  bash tools/run_test_job.sh "$RESULTS_DIR" "$job" > "$RESULTS_DIR/$(basename "$job" .py).line" 2>&1 &
+  soak_jobs+=($!)
+done
+log_step "system tests (pytest) and integration tests (rostest), three at a time; the 3-minute soaks beside them" \
+  "(output: $RESULTS_DIR/rostest/)"
 { printf '%s\n' "${longest[@]}"; printf '%s\n' "${rostests[@]}" | grep -vxF -f <(printf '%s\n' "${longest[@]}"); } |
   xargs -P 3 -I{} bash tools/run_test_job.sh "$RESULTS_DIR" {}
+wait "${soak_jobs[@]}"
+for job in "${soaks[@]}"; do cat "$RESULTS_DIR/$(basename "$job" .py).line"; done
 
 if [ -n "$ros2_tests" ]; then
   if wait "$ros2_tests"; then

@@ -5,6 +5,7 @@
 #   SOAK_DURATION (minutes judged, default 60), SOAK_WARM_UP (minutes before them, not judged, default 10),
 #   SOAK_ROS (1 or 2, default 1; 2 exits 3 where no Python suits the ROS 2 wheels),
 #   SOAK_SEED (the churn's, default 1), SOAK_RESTART_MINUTES (between restarts of the simulated Pepper, default 10),
+#   SOAK_SIM_CLOCK (ROS 1: 1, the default, adds a second robot on a simulated clock from mid-warm-up; 0: none),
 #   SOAK_REPORT (default doc/soak-latest.md; "" for none), SOAK_TRACEMALLOC (1: the node's allocations traced, a
 #   snapshot every 5 minutes in the run's folder; tools/soak_snapshots.py compares them), SOAK_DOMAIN_ID (ROS 2's;
 #   default: one no process of this machine uses), SOAK_FOLDER (the run's files, default <workspace>/soak/rosN),
@@ -22,8 +23,10 @@ rm -rf "$folder"
 mkdir -p "$folder" "$(dirname "$json")"
 setup_output="$folder/ros2-setup.out"  # beside the run: the folder exists, also where SOAK_FOLDER puts it elsewhere
 options=(--minutes "${SOAK_DURATION:-60}" --warm-up "${SOAK_WARM_UP:-10}" --seed "${SOAK_SEED:-1}"
-         --restart-minutes "${SOAK_RESTART_MINUTES:-10}"
+         --restart-minutes "${SOAK_RESTART_MINUTES:-10}" --sim-clock "${SOAK_SIM_CLOCK:-1}"
          --folder "$folder" --json "$json")
+# The ROS 1 run's second robot, on a simulated clock, has its result beside the run's: none left from an earlier run.
+[ "$ros" != 1 ] || rm -f "${json%.json}-sim-clock.json"
 case $ros in
   1) python3 -m cssr_system.ros1.soak_driver "${options[@]}" ;;
   2) setup=0
@@ -39,5 +42,6 @@ case $ros in
 esac
 report=${SOAK_REPORT-doc/soak-latest.md}
 if [ -n "$report" ]; then
-  python3 -m cssr_system.soak.report --markdown "$report" "$results/soak-ros1.json" "$results/soak-ros2.json"
+  python3 -m cssr_system.soak.report --markdown "$report" "$results/soak-ros1.json" \
+    "$results/soak-ros1-sim-clock.json" "$results/soak-ros2.json"
 fi

@@ -16,7 +16,7 @@ rclpy = pytest.importorskip("rclpy")
 pytest.importorskip("cssr_system_interfaces.srv")
 
 from builtin_interfaces.msg import Duration  # noqa: E402 (after the skips)
-from action_msgs.msg import GoalStatus  # noqa: E402
+from action_msgs.msg import GoalStatus, GoalStatusArray  # noqa: E402
 from control_msgs.action import FollowJointTrajectory  # noqa: E402
 from cssr_system_interfaces.action import Animate  # noqa: E402
 from cssr_system_interfaces.msg import AnimateBehaviourStatus  # noqa: E402
@@ -28,7 +28,7 @@ from rclpy.action import ActionClient  # noqa: E402
 from rclpy.context import Context  # noqa: E402
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from rclpy.node import Node  # noqa: E402
-from rclpy.qos import DurabilityPolicy, QoSProfile  # noqa: E402
+from rclpy.qos import DurabilityPolicy, QoSProfile, qos_profile_action_status_default  # noqa: E402
 from sensor_msgs.msg import JointState  # noqa: E402
 from std_srvs.srv import SetBool  # noqa: E402
 from trajectory_msgs.msg import JointTrajectoryPoint  # noqa: E402
@@ -221,19 +221,32 @@ def test_another_clients_goal_is_yielded_to_and_resumed_from(trajectory_run):
     run, client = trajectory_run, trajectory_run.client
     assert client.activate("enabled") == contract.REPLY_SUCCESS
     assert wait_until(lambda: client.part_state("RArm") == "animating", 3.0)
-    gesture = ActionClient(client.node, FollowJointTrajectory, "/pepper/RightArm_controller/follow_joint_trajectory")
+    action = "/pepper/RightArm_controller/follow_joint_trajectory"
+    gesture = ActionClient(client.node, FollowJointTrajectory, action)
     assert gesture.wait_for_server(timeout_sec=5.0)
+    # The node's goal must have reached the controller first: the controller runs whichever goal it accepts last, so
+    # a gesture that overtakes the node's first goal (the node says `animating` as it sends it) is aborted at once,
+    # and the node yields only for its quiet time.
+    statuses = []
+    watch = client.node.create_subscription(GoalStatusArray, action + "/_action/status", statuses.append,
+                                            qos_profile_action_status_default)
+    assert wait_until(lambda: statuses and any(status.status == GoalStatus.STATUS_EXECUTING
+                                               for status in statuses[-1].status_list), 3.0), "the node's goal runs"
+    client.executor.create_task(client.node.destroy_subscription, watch)  # not from this thread while it spins
     goal = FollowJointTrajectory.Goal()
     goal.trajectory.joint_names = list(ARM)
     goal.trajectory.points = [JointTrajectoryPoint(positions=list(PARTS["RArm"].centre), velocities=[0.0] * 5,
                                                    time_from_start=Duration(sec=1))]
     since = time.time()
-    gesture.send_goal_async(goal)
+    sent = gesture.send_goal_async(goal)
     assert wait_until(lambda: client.part_state("RArm") == "yielding", 2.0), "RArm yields"
     assert client.part_state("LArm") == "animating", "the other parts go on"
     assert wait_until(lambda: run.entries(contract.PART_YIELDED, since), 1.0)
     assert wait_until(lambda: client.part_state("RArm") == "animating", 4.0), "RArm resumes"
     assert wait_until(lambda: run.entries(contract.PART_RESUMED, since), 1.0)
+    assert sent.done() and sent.result().accepted
+    ended = sent.result().get_result_async()
+    assert wait_until(ended.done, 1.0) and ended.result().status == GoalStatus.STATUS_SUCCEEDED, "the gesture ran"
     (resumed,) = run.entries(contract.PART_RESUMED, since)
     assert resumed.fields["part"] == "RArm" and resumed.fields["seconds"] >= 1.0
     (yielded,) = run.entries(contract.PART_YIELDED, since)

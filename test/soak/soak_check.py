@@ -1,7 +1,8 @@
 """The 3-minute soak of `make test` (doc/soak.md), shared by both front-ends' tests: `make soak` for 3 minutes (30 s
-of warm-up, the simulated Pepper restarted once, at 1 minute) with generous bounds: no traceback, no goal of the node
-rejected (but by the restart), no reply failed, threads and open files flat, and another node's gesture succeeding
-(one may lose a race to the controller: doc/soak.md)."""
+of warm-up, the simulated Pepper restarted once, at 1 minute, the base's listener away from 2 minutes to 2.5) with
+generous bounds: no traceback, no goal of the node rejected (but by the restart), no reply failed, threads and open
+files flat, and another node's gesture succeeding (one may lose a race to the controller: doc/soak.md). On ROS 1 the
+same holds for the second robot, on a simulated clock from 15 s on (its one gesture is not required)."""
 import json
 import os
 import subprocess
@@ -23,9 +24,19 @@ def run_soak(ros: str, folder: Path, **environment) -> subprocess.CompletedProce
 def check(finished: subprocess.CompletedProcess, folder: Path) -> None:
     assert finished.returncode == 0, finished.stdout[-3000:]
     result = json.loads((folder / "soak.json").read_text())
+    check_result(result, folder / "run", finished.stdout)
+    gestures = {name: goal for name, goal in result["goals"].items() if name.startswith("gesture")}
+    assert any(goal.get("status") == "SUCCEEDED" for goal in gestures.values()), gestures
+    assert result["base listener seen"] == {"left": 1, "back": 1}, "the node saw the base's listener leave and return"
+    simulated_clock = folder / "soak-sim-clock.json"
+    if simulated_clock.exists():
+        check_result(json.loads(simulated_clock.read_text()), folder / "run" / "sim-clock", finished.stdout)
+
+
+def check_result(result: dict, run: Path, output: str) -> None:
     judged = [sample for sample in result["samples"] if sample["t"] >= result["warm up"]]
-    assert len(judged) >= 12, finished.stdout[-3000:]
-    assert result["tracebacks"] == 0, (folder / "run" / "node.out").read_text()[-3000:]
+    assert len(judged) >= 10, output[-3000:]
+    assert result["tracebacks"] == 0, (run / "node.out").read_text()[-3000:]
     assert [entry for entry in result["node goals gone wrong"] if entry[2] == "REJECTED" and not entry[3]] == [], \
         "no goal rejected but by the restart"
     assert [reply for reply in result["replies"] if not reply[3]] == [], "every reply a success"
@@ -33,5 +44,3 @@ def check(finished: subprocess.CompletedProcess, folder: Path) -> None:
     for key, bound in (("threads", THREAD_SPREAD), ("open files", OPEN_FILE_SPREAD)):
         values = [sample[key] for sample in judged]
         assert max(values) - min(values) <= bound, (key, values)
-    gestures = {name: goal for name, goal in result["goals"].items() if name.startswith("gesture")}
-    assert any(goal.get("status") == "SUCCEEDED" for goal in gestures.values()), gestures

@@ -1,13 +1,15 @@
 """The soak's ROS-free parts (doc/soak.md): its churn schedule, the least-squares slope and the percentiles, the
 verdicts against the targets, the log read across a rotation, a run played on a fake driver, and the report."""
 import os
+import subprocess
+import sys
 import time
 
 import pytest
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.event_log import EventLog, format_log_line, format_timestamp
-from cssr_system.soak import figures, report, schedule
+from cssr_system.soak import figures, report, run, schedule
 from cssr_system.soak.run import LogTail, SoakRun, count_tracebacks
 
 HOUR = 3600.0
@@ -32,6 +34,15 @@ def test_the_schedule_churns_as_described_and_keeps_goals_clear_of_restarts():
     assert expected == {None, "duration elapsed", "cancelled", "replaced"}
     gestures = [step.at for step in steps if step.action == schedule.GESTURE]
     assert len(gestures) >= 50 and all(at % 10.0 == 5.0 for at in gestures), "between two live settings"
+
+
+def test_the_base_listener_leaves_on_its_own_half_way_between_two_restarts():
+    steps = schedule.churn_schedule(HOUR, seed=3)
+    listener = [(step.at, step.detail["present"]) for step in steps if step.action == schedule.LISTENER]
+    assert listener == [(at + away, away > 0) for at in (600.0, 1200.0, 1800.0, 2400.0, 3000.0)
+                        for away in (0.0, schedule.LISTENER_AWAY)]
+    short = schedule.churn_schedule(180.0, restart_period=120.0)
+    assert [step.at for step in short if step.action == schedule.LISTENER] == [120.0, 150.0]
 
 
 def test_animate_goals_fall_in_disabled_spells_and_every_cancel_names_a_goal_sent_before_it():
@@ -143,6 +154,7 @@ class FakeDriver:
     def __init__(self, folder):
         self.log_file = str(folder / "node.log")
         self.output_file = str(folder / "node.out")
+        self.heap_file = str(folder / "heap.json")
         self.calls = []
         with open(self.log_file, "w") as log:
             log.write(format_log_line(format_timestamp(time.time()), contract.GOAL_FINISHED,
@@ -174,6 +186,12 @@ class FakeDriver:
     def restart_controllers(self):
         self.calls.append("restart")
 
+    def base_listener(self, present):
+        self.calls.append("listener %s" % ("back" if present else "away"))
+        with open(self.log_file, "a") as log:  # the node sees it at once
+            log.write(format_log_line(format_timestamp(time.time()), contract.CONTROLLER_CONNECTED if present
+                                      else contract.CONTROLLER_LOST, {"part": "Wheels"}) + "\n")
+
 
 def test_a_run_plays_the_schedule_samples_the_process_and_sets_each_end_beside_the_expected(tmp_path):
     driver = FakeDriver(tmp_path)
@@ -182,18 +200,29 @@ def test_a_run_plays_the_schedule_samples_the_process_and_sets_each_end_beside_t
              schedule.Step(0.03, schedule.ANIMATE, {"goal": "animate-0", "duration": 0.0, "intensity": 1.0,
                                                     "parts": [], "expect": "cancelled"}),
              schedule.Step(0.04, schedule.CANCEL, {"goal": "animate-0"}),
-             schedule.Step(0.05, schedule.SETTING, {"name": "intensity", "value": 0.5})]
+             schedule.Step(0.05, schedule.SETTING, {"name": "intensity", "value": 0.5}),
+             schedule.Step(0.06, schedule.LISTENER, {"present": False}),
+             schedule.Step(0.07, schedule.LISTENER, {"present": True})]
+    with open(driver.heap_file, "w") as heap:
+        heap.write('{"malloc in use": 14.5, "malloc free": 6.0, "python blocks": 220000}')
     checkpoints = []
     run = SoakRun(driver, steps, 0.3, 0.0, progress=lambda line: None, sample_period=0.05,
                   checkpoint=checkpoints.append)
     result = run.run()
-    assert driver.calls == ["enabled", "restart", "cancel", "intensity"]
+    assert driver.calls == ["enabled", "restart", "cancel", "intensity", "listener away", "listener back"]
     assert len(result["samples"]) >= 5 and result["samples"][0]["threads"] >= 1 and checkpoints
+    assert result["samples"][0]["malloc in use"] == 14.5 and result["samples"][0]["resident anonymous"] > 0
+    assert result["base listener seen"] == {"left": 1, "back": 1}
     assert [reply[1] for reply in result["replies"]] == ["enable", "setting"]
     assert figures.unexpected_ends(result) == ["gesture-0: expected SUCCEEDED, got ABORTED"]
     assert [row[2:] for row in result["node goals gone wrong"]] == [["ABORTED", False]]
     text = report.text(result)
     assert "animate goals and gestures not ending as expected" in text and "NO" in text
+
+
+def test_each_runs_plot_has_a_plain_file_name():
+    assert [report.plot_name(ros) for ros in ("1", "2", "1, simulated clock")] == [
+        "soak-latest-ros1.png", "soak-latest-ros2.png", "soak-latest-ros1-simulated-clock.png"]
 
 
 def test_the_enabled_spells_are_shaded_from_each_enable_to_the_next_disable():
@@ -209,8 +238,23 @@ def test_the_report_page_and_its_plot(tmp_path):
     assert os.path.getsize(plot) > 1000
     page = report.markdown({"1": result, "2": result_of()}, {"1": "soak.png"})
     assert page.count("| resident memory growth (MB/h) |") == 2
+    for sample in result["samples"]:
+        sample.update({"resident anonymous": sample["resident memory"] - 18.0, "resident file": 18.0,
+                       "malloc in use": 14.5, "malloc free": 6.0 + 0.2 * sample["t"] / HOUR, "python blocks": 2e5})
+    assert report.growth_text(result) == ("resident memory 0.20 MB/h (anonymous 0.20, file-backed 0); malloc in use "
+                                          "0 MB/h, free but kept 0.20 MB/h; Python's allocated blocks +0 an hour")
     assert "## ROS 1" in page and "## ROS 2" in page and "![" in page
     assert "cut short" not in page
     result["samples"] = result["samples"][:200]
     assert "33 minutes, of which 10 of warm-up are not judged (cut short: 70 were planned)" in report.markdown(
         {"1": result}, {})
+
+
+def test_the_probe_writes_what_the_allocators_hold(tmp_path):
+    heap = tmp_path / "heap.json"
+    probe = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools", "soak_probe")
+    environment = dict(os.environ, PYTHONPATH=probe, CSSR_SOAK_HEAP_FILE=str(heap), CSSR_SOAK_HEAP_PERIOD="0.05")
+    subprocess.run([sys.executable, "-c", "import time; time.sleep(0.5)"], env=environment, check=True)
+    figures = run.read_heap(str(heap))
+    assert figures["python blocks"] > 1000
+    assert figures["malloc in use"] is None or 0.1 < figures["malloc in use"] < 1000.0  # None without glibc

@@ -2,7 +2,8 @@
 supervisor as events (README: "Sharing the robot"), on ROS 2.
 
 Goals: an action server publishes its goals' states on the action's status topic (``<action>/_action/status``, the
-name ROS 2's action design gives it); a goal whose id is not one of ours (`own_goals`) is another client's.
+name ROS 2's action design gives it); a running goal whose id is not one of ours (`own_goals`: those we sent lately)
+is another client's.
 Trajectories on a controller's ``joint_trajectory`` topic are always another node's (this node sends goals).
 Twists on the base topic and setAngles calls on naoqi_driver2's JointAngles topic are another node's unless they
 are ours coming back (ros2/rclpy_compat.py). ROS 2 gives no message its publisher, so the other node is named by

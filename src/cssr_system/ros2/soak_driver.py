@@ -1,7 +1,7 @@
 """`make soak ROS=2` (doc/soak.md): the ROS 2 driver of a soak, the twin of cssr_system.ros1.soak_driver. The
 simulated Pepper and the node as processes of the run on this process's ROS 2 domain (ROS_DOMAIN_ID), and this
-process's clients: setActivation, set_parameters for the live settings, the animate action and another node's
-gesture on the right arm. The run itself (schedule, sampling, figures) is cssr_system.soak's.
+process's clients: setActivation, set_parameters for the live settings, the animate action, another node's
+gesture on the right arm and the base's listener. The run itself (schedule, sampling, figures) is cssr_system.soak's.
 
 python3 -m cssr_system.ros2.soak_driver --minutes 60 --warm-up 10 --folder DIR --json FILE
 """
@@ -11,6 +11,7 @@ import threading
 
 import rclpy
 from control_msgs.action import FollowJointTrajectory
+from geometry_msgs.msg import Twist
 from cssr_system_interfaces.action import Animate
 from cssr_system_interfaces.srv import SetActivation
 from rcl_interfaces.msg import Parameter, ParameterType, ParameterValue
@@ -22,13 +23,13 @@ from rclpy.signals import SignalHandlerOptions
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.live_settings import SETTING_KEYS
+from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.demo.gesture import GESTURE_PART
-from cssr_system.recording.recording import run_setting
 from cssr_system.ros2.gesture_player import gesture_goal
 from cssr_system.ros2.program import call
 from cssr_system.ros2.trajectory_client import STATE_NAMES
-from cssr_system.soak.processes import (BUSY, PLATFORM, SIMULATOR, Program, arguments, node_environment, soak,
-                                        wait_until)
+from cssr_system.soak.processes import (BUSY, PLATFORM, SIMULATOR, Program, arguments, base_remapping, heap_file,
+                                        node_environment, robot_topics, soak, wait_until)
 
 NODE = "/" + contract.NODE_NAME
 CALL_TIMEOUT = 5.0  # s
@@ -55,16 +56,20 @@ class Ros2Driver:
         self.ros = node
         self.log_file = os.path.join(folder, "node.log")
         self.output_file = os.path.join(folder, "node.out")
+        self.heap_file = heap_file(folder)
         self.simulator = Program([sys.executable, "-m", "cssr_system.ros2.simulated_pepper_node"]
-                                 + ros_arguments(SIMULATOR), os.path.join(folder, "simulatedPepper.out"))
+                                 + ros_arguments(SIMULATOR) + ["-r", base_remapping()],
+                                 os.path.join(folder, "simulatedPepper.out"))
         self.node = Program([sys.executable, "-m", "cssr_system.ros2.animate_behaviour_main"]
                             + ros_arguments(dict(BUSY, platform=PLATFORM, logFile=self.log_file)), self.output_file,
                             node_environment(folder))
         self._activation = node.create_client(SetActivation, NODE + "/" + contract.SET_ACTIVATION)
         self._parameters = node.create_client(SetParameters, NODE + "/set_parameters")
         self._animate = ActionClient(node, Animate, NODE + "/" + contract.ANIMATE_ACTION)
-        action = run_setting({"platform": PLATFORM}, None).topics[GESTURE_PART]
-        self._gesture = ActionClient(node, FollowJointTrajectory, node.resolve_topic_name(action))
+        topics = robot_topics()
+        self._gesture = ActionClient(node, FollowJointTrajectory, node.resolve_topic_name(topics[GESTURE_PART]))
+        self._base = node.resolve_topic_name(topics[WHEELS_KEY])
+        self._listener = None
         self._ended = None
         self._goals = {}  # name -> accepted goal handle
         self._lock = threading.Lock()
@@ -81,6 +86,7 @@ class Ros2Driver:
                              lambda: self._gesture.wait_for_server(timeout_sec=START_TIMEOUT))):
             if not ready():
                 raise SystemExit("soak: no %s within %g s (see %s)" % (what, START_TIMEOUT, self.output_file))
+        self.base_listener(True)
 
     def node_pid(self) -> int:
         return self.node.process.pid
@@ -132,6 +138,16 @@ class Ros2Driver:
         self.simulator.stop()
         self.simulator.start()
         wait_until(lambda: self._gesture.server_is_ready(), START_TIMEOUT)
+
+    def base_listener(self, present: bool) -> None:
+        """A subscription to the base's topic, as a base driver's, comes or goes."""
+        if present and self._listener is None:
+            self._listener = self.ros.create_subscription(Twist, self._base, lambda message: None, 1)
+        elif not present and self._listener is not None:
+            # Ended on the executor's thread: rclpy 7.1's executor fails (InvalidHandle) when another thread destroys
+            # a subscription while it builds its wait set.
+            self.ros.executor.create_task(self.ros.destroy_subscription, self._listener)
+            self._listener = None
 
     def stop(self) -> None:
         """The node disabled and stopped, then the simulated Pepper, also after a failure of the run."""

@@ -1,8 +1,9 @@
 """The ROS 2 client of a controller's FollowJointTrajectory action (ros2_control's joint_trajectory_controller), as
 the part streams use it (core/goals.py says what they ask of it)."""
+import collections
 import threading
 import uuid
-from typing import Callable, Optional, Set
+from typing import Callable, Deque, Optional, Set
 
 from action_msgs.msg import GoalStatus
 from builtin_interfaces.msg import Duration
@@ -15,6 +16,7 @@ from cssr_system.core.goals import ABORTED, LOST, PREEMPTED, REJECTED, SUCCEEDED
 from cssr_system.motion.planners import GOAL_TIME_TOLERANCE
 from cssr_system.motion.trajectory_timing import TimedTrajectory, to_points
 
+REMEMBERED_GOALS = 64  # a client's latest goals whose ids it keeps in own_goals (TrajectoryClient._remember)
 # ROS 2's goal states, by the names the log uses. A canceled goal is what ROS 1 calls preempted.
 STATE_NAMES = {GoalStatus.STATUS_SUCCEEDED: SUCCEEDED, GoalStatus.STATUS_ABORTED: ABORTED,
                GoalStatus.STATUS_CANCELED: PREEMPTED}
@@ -71,12 +73,13 @@ class SentGoal:
 
 
 class TrajectoryClient:
-    """One controller's FollowJointTrajectory client. `own_goals`: the ids of every goal this node sends (the
-    foreign watch tells other clients' goals apart by them)."""
+    """One controller's FollowJointTrajectory client. `own_goals`: the ids of the goals this node has sent lately (the
+    foreign watch tells other clients' goals apart by them); this client keeps its REMEMBERED_GOALS latest there."""
 
     def __init__(self, node, action: str, own_goals: Set[bytes], callback_group=None) -> None:
         self.client = ActionClient(node, FollowJointTrajectory, action, callback_group=callback_group)
         self._own_goals = own_goals
+        self._sent_ids: Deque[bytes] = collections.deque()  # ours in own_goals, the oldest first
 
     def ready(self) -> bool:
         return self.client.server_is_ready()
@@ -88,10 +91,19 @@ class TrajectoryClient:
     def send(self, goal: FollowJointTrajectory.Goal,
              done: Callable[[str, Optional[int], str], None]) -> SentGoal:
         sent = SentGoal(goal)
-        self._own_goals.add(bytes(sent.uuid.uuid))
+        self._remember(bytes(sent.uuid.uuid))
         future = self.client.send_goal_async(goal, goal_uuid=sent.uuid)
         future.add_done_callback(lambda answered: self._answered(sent, answered, done))
         return sent
+
+    def _remember(self, goal_id: bytes) -> None:
+        """`goal_id` joins own_goals and this client's oldest leaves it, so that the set does not grow with every goal
+        sent (about 100 bytes each). The controller runs one goal at a time: ours of REMEMBERED_GOALS goals ago has
+        ended, and the watch pays no heed to an ended goal, ours or not. Only the supervisor thread sends."""
+        self._own_goals.add(goal_id)
+        self._sent_ids.append(goal_id)
+        if len(self._sent_ids) > REMEMBERED_GOALS:
+            self._own_goals.discard(self._sent_ids.popleft())
 
     def _answered(self, sent: SentGoal, future, done) -> None:
         handle = future.result()

@@ -50,6 +50,20 @@ def judged_samples(result: dict) -> List[dict]:
     return [sample for sample in result["samples"] if sample["t"] >= result["warm up"]]
 
 
+MEMORY_PARTS = ("resident anonymous", "resident file", "malloc in use", "malloc free", "python blocks")
+
+
+def memory_slopes(result: dict) -> dict:
+    """The least-squares slope per hour, over the judged samples, of resident memory and of what makes it up (by
+    kind of page, and what the node's allocators hold: soak.run.HEAP_KEYS); None where not measured."""
+    samples = judged_samples(result)
+    slopes = {}
+    for key in ("resident memory",) + MEMORY_PARTS:
+        measured = [(sample["t"], sample[key]) for sample in samples if sample.get(key) is not None]
+        slopes[key] = slope_per_hour([at for at, _ in measured], [value for _, value in measured])
+    return slopes
+
+
 def spread(samples: Sequence[dict], key: str) -> Optional[float]:
     values = [sample[key] for sample in samples]
     return max(values) - min(values) if values else None
@@ -114,7 +128,8 @@ def context(result: dict) -> dict:
             "cpu mean": sum(cpu) / len(cpu) if cpu else None, "churn": actions,
             "replies": len(result["replies"]), "failed replies": sum(not reply[3] for reply in result["replies"]),
             "goals": len(result["goals"]), "log errors": result["log errors"],
-            "provoked": sum(bool(provoked) for *_, provoked in result["node goals gone wrong"])}
+            "provoked": sum(bool(provoked) for *_, provoked in result["node goals gone wrong"]),
+            "base listener seen": result.get("base listener seen")}
 
 
 def number(value: Optional[float]) -> str:

@@ -10,6 +10,9 @@ import time
 from socket import socket as tcp_socket
 from typing import Callable, List, Optional, Sequence
 
+from cssr_system.animate_behaviour.configuration import load_configuration, shipped_configuration_path
+from cssr_system.animate_behaviour.configuration import topic_file_path
+from cssr_system.animate_behaviour.topics import WHEELS_KEY, load_topic_map
 from cssr_system.soak.report import text
 from cssr_system.soak.run import SoakRun, write_json
 from cssr_system.soak.schedule import RESTART_PERIOD, churn_schedule
@@ -21,16 +24,36 @@ PLATFORM = "robot"
 SIMULATOR = {"platform": PLATFORM, "velocity_report": "commanded"}
 BUSY = {"behaviour": "all", "gestureDuration": 0.5, "numPoints": 2, "legRepeatFactor": 1, "numPointsLeg": 1}
 STOP_TIMEOUT = 10.0  # s for a process to exit after SIGINT before it is killed
-TRACING = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "tools", "soak_tracemalloc")
+PROBE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "tools", "soak_probe")
+UNHEARD_BASE = "soak_unheard_base"  # where the simulated Pepper listens instead of the base's topic
+HEAP_FILE = "heap.json"  # in the run's folder: what the node's allocators hold (tools/soak_probe)
 
 
-def node_environment(folder: str) -> Optional[dict]:
-    """The node's environment: this process's, and with CSSR_TRACEMALLOC=1 its allocations traced and snapshots
-    written to `folder` (tools/soak_tracemalloc); None: this process's as it is."""
-    if os.environ.get("CSSR_TRACEMALLOC", "0") != "1":
-        return None
-    python_path = os.pathsep.join(filter(None, (os.path.abspath(TRACING), os.environ.get("PYTHONPATH"))))
-    return dict(os.environ, PYTHONPATH=python_path, CSSR_TRACEMALLOC_DIR=folder)
+def heap_file(folder: str) -> str:
+    return os.path.join(folder, HEAP_FILE)
+
+
+def robot_topics() -> dict:
+    """The robot's topics as the node names them (relative: in its namespace), by key of the topic file."""
+    configuration = load_configuration(shipped_configuration_path(), {"platform": PLATFORM})
+    return dict(load_topic_map(topic_file_path(configuration)).topics)
+
+
+def base_remapping() -> str:
+    """Keeps the simulated Pepper's listener off the base's topic (a remapping, relative to its namespace): the
+    run's own listener (driver.base_listener) leaves and comes back on its own."""
+    return "%s:=%s" % (robot_topics()[WHEELS_KEY], UNHEARD_BASE)
+
+
+def node_environment(folder: str) -> dict:
+    """The node's environment: this process's, with the soak's probe (tools/soak_probe) writing what its allocators
+    hold to heap_file(folder), and with CSSR_TRACEMALLOC=1 its allocations traced and snapshots written to
+    `folder`."""
+    python_path = os.pathsep.join(filter(None, (os.path.abspath(PROBE), os.environ.get("PYTHONPATH"))))
+    environment = dict(os.environ, PYTHONPATH=python_path, CSSR_SOAK_HEAP_FILE=heap_file(folder))
+    if os.environ.get("CSSR_TRACEMALLOC", "0") == "1":
+        environment["CSSR_TRACEMALLOC_DIR"] = folder
+    return environment
 
 
 class Program:
@@ -85,23 +108,30 @@ def arguments(argv: List[str]) -> argparse.Namespace:
     parser.add_argument("--seed", type=int, default=1, help="the churn's random seed")
     parser.add_argument("--restart-minutes", type=float, default=RESTART_PERIOD / 60.0,
                         help="minutes between restarts of the simulated Pepper (the first at half of it)")
+    parser.add_argument("--sim-clock", type=int, choices=(0, 1), default=1,
+                        help="ROS 1: 1 (default) adds a second robot on a simulated clock from mid-warm-up")
     parser.add_argument("--folder", required=True, help="the run's folder: output of every process, the log")
     parser.add_argument("--json", required=True, help="the run's result")
     return parser.parse_args(argv)
 
 
-def soak(driver, options: argparse.Namespace, ros: str) -> int:
-    """The run on `driver` (started), its result in options.json, the figures beside their targets printed."""
-    seconds, warm_up = 60.0 * (options.minutes + options.warm_up), 60.0 * options.warm_up
-    document = {"ros": ros, "configuration": "platform %s, %s" % (
-        PLATFORM, ", ".join("%s %s" % item for item in BUSY.items())), "cores": os.cpu_count(),
+def soak(driver, options: argparse.Namespace, ros: str, start: float = 0.0, json: Optional[str] = None,
+         about: str = "") -> int:
+    """The run on `driver` (started), from `start` s into the soak to its end, with the soak's warm-up; its result
+    in `json` (default options.json), the figures beside their targets printed. `about`: what sets this run apart,
+    for its configuration line."""
+    seconds, warm_up = 60.0 * (options.minutes + options.warm_up) - start, 60.0 * options.warm_up
+    json = json or options.json
+    document = {"ros": ros, "configuration": "platform %s, %s%s" % (
+        PLATFORM, ", ".join("%s %s" % item for item in BUSY.items()), about), "cores": os.cpu_count(),
         "python": "%d.%d.%d" % sys.version_info[:3]}
 
     def checkpoint(result: dict) -> None:
-        write_json(options.json, dict(result, **document))
+        write_json(json, dict(result, **document))
     run = SoakRun(driver, churn_schedule(seconds, options.seed, 60.0 * options.restart_minutes), seconds, warm_up,
-                  progress=lambda line: print(line, flush=True), checkpoint=checkpoint)
+                  progress=lambda line: print(("ROS %s: " % ros if about else "") + line, flush=True),
+                  checkpoint=checkpoint)
     result = dict(run.run(), **document)
-    write_json(options.json, result)
-    print(text(result))
+    write_json(json, result)
+    print(text(result), flush=True)
     return 0

@@ -8,10 +8,11 @@ its "ros" field)
 import argparse
 import json
 import os
+import re
 import sys
 from typing import Dict, List
 
-from cssr_system.soak.figures import context, number, table
+from cssr_system.soak.figures import context, memory_slopes, number, table
 from cssr_system.soak.schedule import DISABLE, ENABLE, GESTURE, RESTART
 
 
@@ -36,10 +37,10 @@ def length_text(about: dict) -> str:
 def churn_text(about: dict) -> str:
     churn = about["churn"]
     return ("%d enables, %d disables, %d live settings, %d animate goals (%d cancelled), %d gestures, %d restarts of "
-            "the simulated Pepper; %d replies (%d failed)" % (
+            "the simulated Pepper, %d departures of the base's listener; %d replies (%d failed)" % (
                 churn.get("enable", 0), churn.get("disable", 0), churn.get("setting", 0), churn.get("animate", 0),
-                churn.get("cancel", 0), churn.get("gesture", 0), churn.get("restart", 0), about["replies"],
-                about["failed replies"]))
+                churn.get("cancel", 0), churn.get("gesture", 0), churn.get("restart", 0), churn.get("listener", 0) // 2,
+                about["replies"], about["failed replies"]))
 
 
 def markdown(results: Dict[str, dict], plots: Dict[str, str]) -> str:
@@ -56,13 +57,38 @@ def markdown(results: Dict[str, dict], plots: Dict[str, str]) -> str:
                   "- process at the start and at the end: " + process_text(about),
                   "- node goals rejected, aborted or lost by the churn (a restart, a gesture): %d; error events in the "
                   "log: %d"
-                  % (about["provoked"], about["log errors"]), "",
+                  % (about["provoked"], about["log errors"]),
+                  "- the base's listener: " + listener_text(about),
+                  "- growth over the judged part: " + growth_text(result), "",
                   "| figure | value | target | met |", "|---|---|---|---|"]
         lines += ["| %s | %s | %s | %s |" % row for row in table(result)]
         if ros in plots:
             lines += ["", "![resident memory, CPU and threads, ROS %s](%s)" % (ros, plots[ros])]
         lines.append("")
     return "\n".join(lines)
+
+
+def listener_text(about: dict) -> str:
+    seen = about["base listener seen"]
+    if seen is None:
+        return "-"
+    return "left %d times on its own; the node saw it leave %d times and come back %d times" % (
+        about["churn"].get("listener", 0) // 2, seen["left"], seen["back"])
+
+
+def growth_text(result: dict) -> str:
+    """Resident memory's slope beside those of its parts: where it grows."""
+    slopes = memory_slopes(result)
+    if slopes["resident memory"] is None:
+        return "-"
+    text = "resident memory %s MB/h (anonymous %s, file-backed %s)" % tuple(
+        number(slopes[key]) for key in ("resident memory", "resident anonymous", "resident file"))
+    if slopes["malloc in use"] is not None:
+        text += "; malloc in use %s MB/h, free but kept %s MB/h" % (
+            number(slopes["malloc in use"]), number(slopes["malloc free"]))
+    if slopes["python blocks"] is not None:
+        text += "; Python's allocated blocks %+.0f an hour" % slopes["python blocks"]
+    return text
 
 
 def process_text(about: dict) -> str:
@@ -123,6 +149,11 @@ def _mark_churn(axis, result: dict) -> None:
             axis.axvline(at / 60.0, color="grey", linewidth=0.4, alpha=0.3)
 
 
+def plot_name(ros: str) -> str:
+    """The plot's file name of a run on ROS `ros` (e.g. "1, simulated clock": soak-latest-ros1-simulated-clock.png)."""
+    return "soak-latest-ros%s.png" % re.sub(r"[^0-9a-z]+", "-", ros.lower()).strip("-")
+
+
 def main(argv: List[str]) -> int:
     parser = argparse.ArgumentParser(description="The soak's report from its results (JSON).")
     parser.add_argument("results", nargs="+", help="a run's JSON; a missing one is left out")
@@ -136,7 +167,7 @@ def main(argv: List[str]) -> int:
             results[str(result.get("ros", "?"))] = result
     folder = os.path.dirname(os.path.abspath(arguments.markdown))
     for ros, result in results.items():
-        name = "soak-latest-ros%s.png" % ros
+        name = plot_name(ros)
         plot(result, os.path.join(folder, name))
         plots[ros] = name
     with open(arguments.markdown, "w") as stream:

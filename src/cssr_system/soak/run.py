@@ -2,11 +2,13 @@
 from /proc, its log read as it grows, its output searched for tracebacks, and every goal's end set beside the one
 expected. The driver (cssr_system.ros1.soak_driver, cssr_system.ros2.soak_driver) does the ROS I/O:
 
-  driver.node_pid() -> int; driver.log_file and driver.output_file (paths)
+  driver.node_pid() -> int; driver.log_file, driver.output_file and driver.heap_file (paths; the last written by
+      the soak's probe in the node, tools/soak_probe, and read at each sample)
   driver.activate(state) -> bool (the reply was a success); driver.set_setting(name, value) -> bool
   driver.send_animate(goal, detail), driver.cancel_animate(goal), driver.play_gesture(goal): they return at once;
       each goal's end comes back through the `ended(goal, status, reason)` the run gives to driver.attach
   driver.restart_controllers(): the simulated Pepper stopped and started again (the run calls it on a thread)
+  driver.base_listener(present): the base's listener (a subscriber of the base's topic) leaves or comes back
 
 Pure Python: no ROS.
 """
@@ -18,10 +20,11 @@ from typing import Callable, Dict, List, Optional
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.event_log import parse_log_line
+from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.core.goals import ABORTED, LOST, REJECTED
 from cssr_system.demo.gesture import GESTURE_PART
-from cssr_system.soak.process_figures import cpu_seconds, log_bytes, process_figures
-from cssr_system.soak.schedule import (ANIMATE, CANCEL, DISABLE, ENABLE, GESTURE, RESTART, SETTING, Step)
+from cssr_system.soak.process_figures import cpu_seconds, log_bytes, process_figures, resident_kinds
+from cssr_system.soak.schedule import (ANIMATE, CANCEL, DISABLE, ENABLE, GESTURE, LISTENER, RESTART, SETTING, Step)
 
 SAMPLE_PERIOD = 10.0  # s between samples of the node's process
 PROVOKED_AFTER_RESTART = 15.0  # s after a restart in which a goal's rejection, abort or loss is the restart's doing
@@ -29,6 +32,7 @@ SETTLE = 15.0  # s the run waits at its end for goals still under way
 # s around another node's gesture in which the end of the node's goal on that part is the gesture's doing: on ROS 2
 # joint_trajectory_controller aborts the goal a newer one replaces.
 GESTURE_WINDOW = (-0.5, 2.0)
+HEAP_KEYS = ("malloc in use", "malloc free", "python blocks")  # MB, MB, a count (tools/soak_probe)
 
 
 class LogTail:
@@ -71,6 +75,16 @@ class LogTail:
         return complete.decode("utf-8", errors="replace").splitlines()
 
 
+def read_heap(path: str) -> dict:
+    """What the node's allocators hold, as the soak's probe last wrote it (HEAP_KEYS; None where not known)."""
+    try:
+        with open(path) as stream:
+            figures = json.load(stream)
+    except (OSError, ValueError):
+        figures = {}
+    return {key: figures.get(key) for key in HEAP_KEYS}
+
+
 def count_tracebacks(path: str) -> int:
     try:
         with open(path, encoding="utf-8", errors="replace") as stream:
@@ -95,6 +109,7 @@ class SoakRun:
         self.goals: Dict[str, dict] = {}  # by name: expect, sent, status, reason, ended
         self.node_goals: List[list] = []  # [s from the start, part, state, provoked]: the node's goals gone wrong
         self.errors = 0
+        self.base_seen = {contract.CONTROLLER_LOST: 0, contract.CONTROLLER_CONNECTED: 0}  # the node's log, of Wheels
         self._restarts: List[list] = []  # [start, end or None]
         self._gestures: List[float] = []  # when each gesture was sent
         self._lock = threading.Lock()
@@ -165,6 +180,8 @@ class SoakRun:
             self.driver.cancel_animate(step.detail["goal"])
         elif step.action == RESTART:
             self._restart()
+        elif step.action == LISTENER:
+            self.driver.base_listener(step.detail["present"])
 
     def _timed(self, what: str, call: Callable[[], bool]) -> None:
         sent = time.monotonic()
@@ -204,6 +221,8 @@ class SoakRun:
         sample = {"t": now - self._start, "resident memory": figures["resident memory"],
                   "threads": figures["threads"], "open files": figures["open files"], "cpu": cpu,
                   "log bytes": log_bytes(self.driver.log_file)}
+        sample.update(resident_kinds(pid))
+        sample.update(read_heap(self.driver.heap_file))
         self.samples.append(sample)
         self.progress("soak %6.0f s: RSS %.1f MB, %d threads, %d open files, CPU %s, log %.1f MB" % (
             sample["t"], sample["resident memory"], sample["threads"], sample["open files"],
@@ -213,15 +232,25 @@ class SoakRun:
         for entry in self._tail.new_entries():
             if entry.event == contract.ERROR:
                 self.errors += 1
+            elif entry.event in self.base_seen and entry.fields.get("part") == WHEELS_KEY and self._listener_left(
+                    entry.timestamp.timestamp() - self._wall_start):
+                self.base_seen[entry.event] += 1
             elif entry.event == contract.GOAL_FINISHED and entry.fields.get("state") in (ABORTED, REJECTED, LOST):
                 at = entry.timestamp.timestamp() - self._wall_start
                 part = entry.fields.get("part")
                 self.node_goals.append([at, part, entry.fields["state"], self.provoked(at, part)])
 
+    def _listener_left(self, at: float) -> bool:
+        """Whether the base's listener had left on its own by `at` (s from the start): the node's first connection
+        to the base is not a return."""
+        return any(mark[0] <= at + 1.0 and mark[1] == LISTENER for mark in self.marks)
+
     def result(self) -> dict:
         return {"seconds": self.seconds, "warm up": self.warm_up, "sample period": self.sample_period,
                 "samples": self.samples, "marks": self.marks, "replies": self.replies, "goals": self._goal_copy(),
                 "node goals gone wrong": self.node_goals, "restarts": self._restarts, "log errors": self.errors,
+                "base listener seen": {"left": self.base_seen[contract.CONTROLLER_LOST],
+                                       "back": self.base_seen[contract.CONTROLLER_CONNECTED]},
                 "tracebacks": count_tracebacks(self.driver.output_file),
                 "started": time.strftime("%Y-%m-%dT%H:%M:%S%z", time.localtime(self._wall_start))}
 

@@ -5,21 +5,23 @@ every step at its time from the start, drawn from a seeded random generator, so 
 - in every disabled spell an animate goal: with a duration (it succeeds), until cancelled (cancelled after 4 s) or
   replaced after 3 s by one with a duration (the first ends "replaced", the second succeeds);
 - another node's gesture on the right arm every minute, 5 s after a live setting (it succeeds: the node yields);
-- the simulated Pepper restarted every 10 minutes (its controllers and the base's listener leave and come back),
-  with no animate goal or gesture within 15 s of it, so that every one of them has one expected end.
+- the simulated Pepper restarted every 10 minutes (its controllers leave and come back), with no animate goal or
+  gesture within 15 s of it, so that every one of them has one expected end;
+- the base's listener gone for 30 s every 10 minutes, on its own, half-way between two restarts.
 Pure Python: no ROS.
 """
 import random
 from typing import Dict, List, NamedTuple, Tuple
 
-ENABLE, DISABLE, SETTING, ANIMATE, CANCEL, GESTURE, RESTART = (
-    "enable", "disable", "setting", "animate", "cancel", "gesture", "restart")
+ENABLE, DISABLE, SETTING, ANIMATE, CANCEL, GESTURE, RESTART, LISTENER = (
+    "enable", "disable", "setting", "animate", "cancel", "gesture", "restart", "listener")
 SUCCEEDED_REASON, CANCELLED_REASON, REPLACED_REASON = "duration elapsed", "cancelled", "replaced"
 SPELL = (15.0, 30.0)  # s of each enabled or disabled spell
 SETTING_PERIOD = 10.0  # s between live settings
 GESTURE_PERIOD = 60.0  # s between another node's gestures; the first at half of it and 5 s (between two settings)
 RESTART_PERIOD = 600.0  # s between restarts of the simulated Pepper; the first at half of it
 CLEARANCE = 15.0  # s kept between a restart and any animate goal or gesture
+LISTENER_AWAY = 30.0  # s the base's listener stays away
 ANIMATE_SPAN = 12.0  # s from an animate goal's start to the end of its last goal, at most
 ANIMATE_DURATION = 4.0  # s of an animate goal with a duration
 # The live settings in turn, by dynamic_reconfigure's names (animate_behaviour.live_settings.SETTING_KEYS).
@@ -75,6 +77,16 @@ def _animate_steps(start: float, number: int, kind: str) -> List[Step]:
                                         "parts": ["arms"], "expect": SUCCEEDED_REASON})]
 
 
+def _listener_steps(seconds: float, restart_period: float) -> List[Step]:
+    """The base's listener leaving and coming back on its own, every `restart_period` s from the first, half-way
+    between two restarts of the simulated Pepper (whose own listener the drivers keep off the base's topic)."""
+    steps, at = [], restart_period
+    while at + LISTENER_AWAY < seconds:
+        steps += [Step(at, LISTENER, {"present": False}), Step(at + LISTENER_AWAY, LISTENER, {"present": True})]
+        at += restart_period
+    return steps
+
+
 def churn_schedule(seconds: float, seed: int = 1, restart_period: float = RESTART_PERIOD) -> List[Step]:
     """Every step of a run of `seconds`, in time order (the simulated Pepper restarted every `restart_period` s)."""
     rng = random.Random(seed)
@@ -94,6 +106,7 @@ def churn_schedule(seconds: float, seed: int = 1, restart_period: float = RESTAR
         steps.append(Step(at, SETTING, {"name": name, "value": value}))
         at, index = at + SETTING_PERIOD, index + 1
     # Not at the instant of a live setting: the node's new goals would race the gesture's to the controller.
+    steps += _listener_steps(seconds, restart_period)
     at, played = GESTURE_PERIOD / 2.0 + SETTING_PERIOD / 2.0, 0
     while at < seconds:
         if _clear_of(at, at + ANIMATE_SPAN, restarts):
