@@ -10,7 +10,9 @@ from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[2]
 WARM_UP, MINUTES, RESTART_MINUTES = 0.5, 2.5, 2.0
-THREAD_SPREAD, OPEN_FILE_SPREAD = 6, 12  # generous: the 60-minute targets are 4 and 8
+# Generous growth bounds (the 60-minute targets bound the spread by 4 and 8): in 3 minutes, connection threads left from
+# the start-up may still be ending, so a count that falls is no growth.
+THREAD_SPREAD, OPEN_FILE_SPREAD = 6, 12
 
 
 def run_soak(ros: str, folder: Path, **environment) -> subprocess.CompletedProcess:
@@ -43,4 +45,5 @@ def check_result(result: dict, run: Path, output: str) -> None:
     assert len(result["restarts"]) == 1 and result["restarts"][0][1] is not None, "the simulated Pepper restarted"
     for key, bound in (("threads", THREAD_SPREAD), ("open files", OPEN_FILE_SPREAD)):
         values = [sample[key] for sample in judged]
-        assert max(values) - min(values) <= bound, (key, values)
+        assert max(values) - values[0] <= bound and max(values[len(values) // 2:]) - min(values) <= bound, \
+            (key, values)
