@@ -72,7 +72,7 @@ class AnimateBehaviourNode:
         self.report_error, self.report_problem = problems.error, problems.bad_input
         # ROS time (simulated with use_sim_time, as ros2_control's controllers): the streams' deadlines.
         self.clock = lambda: clock_seconds(node)
-        self.own_goals: Set[bytes] = set()  # every goal id this node sends: other clients' goals are the rest
+        self.own_goals: Set[bytes] = set()  # each client's latest goal ids (REMEMBERED_GOALS)
         joint_states = node.resolve_topic_name(JOINT_STATES_TOPIC)  # in the node's namespace, remapped where asked
         self.joint_states = JointStateCache(self.clock, lambda text: self.report_problem("joint_states", text),
                                             joint_states)
