@@ -38,6 +38,11 @@ JUDGE_WAIT = 0.5  # s
 JUDGE_POLL = 0.02  # s
 
 
+def judging_reason(event: GoalDone) -> str:
+    """Why /joint_states is listened to while a goal's end waits for a measurement."""
+    return "judging the end of %s goal %d" % (event.part, event.goal_number)
+
+
 class Supervisor:
     """Owns the streams and the event loop.
 
@@ -183,16 +188,15 @@ class Supervisor:
 
     def _update_feed(self) -> None:
         """/joint_states is listened to while a decision needs the measured joints (core/joint_states.py)."""
-        streams = self.part_streams()
+        streams, now = self.part_streams(), self.clock()
         still = [joint for stream in streams if not (stream.active and stream.drives_joints)
                  for joint in PARTS[stream.part].joints]
-        self._feed.update(self._why_measurements_are_needed(streams, self.clock()), still, self.clock())
+        self._feed.update(self._why_measurements_are_needed(streams, now), still, now)
 
     def _why_measurements_are_needed(self, streams: List[PartStream], now: float) -> Optional[str]:
         """Why a decision needs the measured joints now (None: none does)."""
         if self._judging:
-            event = self._judging[0][1]
-            return "judging the end of %s goal %d" % (event.part, event.goal_number)
+            return judging_reason(self._judging[0][1])
         for stream in streams:
             if stream.active and stream.needs_measurements():
                 return "%s %s" % (stream.part, stream.state.value)
@@ -284,7 +288,7 @@ class Supervisor:
             return
         if stream.end_needs_measurement(event):  # measured first (core/joint_states.py), then judged
             self._judging.append((self.clock() + JUDGE_WAIT, event))
-            self._feed.listen("judging the end of %s goal %d" % (event.part, event.goal_number))
+            self._feed.listen(judging_reason(event))
             return
         stream.goal_done(event)
 
