@@ -6,14 +6,20 @@ set -euo pipefail
 source "$(dirname "$0")/common.sh"
 
 mkdir -p "$WORKSPACE_DIR/src"
-ln -sfn "$REPO_DIR" "$WORKSPACE_DIR/src/cssr_system"
+# Links <target> at <link> unless it is there already. `ln -sfn` replaces a link through a temporary
+# link beside it, and a ROS tool searching the workspace at that moment (a rostest while a test runs
+# `make demo`) would find the package twice.
+link_once() {
+  [ "$(readlink "$2" 2>/dev/null)" = "$1" ] || ln -sfn "$1" "$2"
+}
+link_once "$REPO_DIR" "$WORKSPACE_DIR/src/cssr_system"
 # Link tools/<name> into the workspace unless the system has the message package <name> (the link
 # itself, once built, makes the import work: a link already there stays).
 link_unless_installed() {
   if /usr/bin/python3 -c "import $1.msg" 2>/dev/null && [ ! -L "$WORKSPACE_DIR/src/$1" ]; then
     rm -f "$WORKSPACE_DIR/src/$1"
   else
-    ln -sfn "$REPO_DIR/tools/$1" "$WORKSPACE_DIR/src/$1"
+    link_once "$REPO_DIR/tools/$1" "$WORKSPACE_DIR/src/$1"
   fi
 }
 link_unless_installed control_msgs
