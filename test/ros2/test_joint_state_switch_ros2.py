@@ -4,7 +4,6 @@ executor survives every switch and goes on serving the node.
 
 Run inside the ROS 2 environment: bash tools/ros2/run.sh python3 -m pytest test/ros2 -q
 """
-import threading
 import time
 
 import pytest
@@ -16,7 +15,7 @@ from rclpy.executors import SingleThreadedExecutor  # noqa: E402
 from rclpy.node import Node  # noqa: E402
 from sensor_msgs.msg import JointState  # noqa: E402
 
-from cssr_system.ros2.animate_behaviour_node import Subscription  # noqa: E402
+from cssr_system.ros2.animate_behaviour_node import ExecutorThread, Subscription  # noqa: E402
 from domains import claim_domain  # noqa: E402
 from processes import wait_until  # noqa: E402
 
@@ -30,8 +29,8 @@ def test_switching_the_joint_state_subscription_from_another_thread_leaves_the_e
     node = Node("joint_state_switch_test", context=context)
     executor = SingleThreadedExecutor(context=context)
     executor.add_node(node)
-    spinning = threading.Thread(target=executor.spin, daemon=True)
-    spinning.start()
+    spinning = ExecutorThread(node)
+    spinning.spin(executor)
     try:
         publisher = node.create_publisher(JointState, "/joint_states", 10)
         ticks = []
@@ -39,11 +38,11 @@ def test_switching_the_joint_state_subscription_from_another_thread_leaves_the_e
                                                                                    position=[0.0]))))
         for switch in range(SWITCHES):
             subscription = Subscription(node, node.create_subscription(JointState, "/joint_states",
-                                                                       lambda message: None, 1))
+                                                                       lambda message: None, 1), spinning.run)
             time.sleep(0.001 * (switch % 4))  # messages come in, and the executor waits on the subscription
             subscription.unregister()
         served = len(ticks)
-        assert spinning.is_alive(), "the executor died"
+        assert not spinning.ended(), "the executor died"
         assert wait_until(lambda: len(ticks) > served + 10, 5.0), "the executor no longer serves the node"
         assert wait_until(lambda: not list(node.subscriptions), 5.0), "every subscription ended"
     finally:

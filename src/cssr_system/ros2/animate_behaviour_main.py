@@ -24,6 +24,7 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import ConfigurationError
 from cssr_system.animate_behaviour.console import route_console
 from cssr_system.animate_behaviour.contract import NODE_NAME
+from cssr_system.animate_behaviour.malloc_arenas import use_one_malloc_arena
 from cssr_system.ros2.animate_behaviour_node import AnimateBehaviourNode
 from cssr_system.ros2.program import on_signals
 
@@ -63,17 +64,25 @@ def load(wiring: AnimateBehaviourNode):
         return None
 
 
-def run(wiring: AnimateBehaviourNode, stop: threading.Event) -> int:
-    """Waits for `stop`; 1 when the supervisor thread ended first (the robot is stopped from here)."""
+def run(wiring: AnimateBehaviourNode, stop: threading.Event, reasons: List[str]) -> int:
+    """Waits for `stop`; 1 when the supervisor thread ended first (the robot is stopped from here), or the executor's
+    (the node hears nothing more: the robot is stopped as at a signal)."""
     while not stop.wait(ALIVE_CHECK_PERIOD):
         if not wiring.supervisor.thread.is_alive() and not wiring.supervisor.stopped.is_set():
             fail("the supervisor thread has ended; stopping the robot and exiting.")
             wiring.supervisor.stop_without_thread()
+            reasons.append("supervisor ended")
+            return 1
+        if wiring.executor_thread.ended():
+            fail("the executor thread has ended, so the node hears and answers nothing; stopping the robot and "
+                 "exiting.")
+            reasons.append("executor ended")
             return 1
     return 0
 
 
 def main(argv: Optional[List[str]] = None) -> int:
+    use_one_malloc_arena()  # before any thread starts: memory that does not creep over hours of use
     rclpy.init(args=sys.argv if argv is None else argv, signal_handler_options=SignalHandlerOptions.NO)
     node = Node(NODE_NAME)
     node.get_logger().set_level(LoggingSeverity.DEBUG)  # the console logger's level (verboseMode) decides
@@ -95,17 +104,17 @@ def main(argv: Optional[List[str]] = None) -> int:
     on_signals(lambda name: (reasons.append(name), stop.set()))
     node.get_logger().info("{} {}: makes the Pepper robot look alive with small random movements.".format(
         NODE_NAME, wiring.version))
+    executor = SingleThreadedExecutor()
+    executor.add_node(node)  # first: the goals sent as the node starts wait on it for it to spin
     wiring.start(*loaded)
     # Spun once the clients exist: an rclpy ActionClient made while the executor spins may be waited on before it
     # is complete (rclpy 9.1.2 adds it to the node before making its lock).
-    executor = SingleThreadedExecutor()
-    executor.add_node(node)
-    threading.Thread(target=executor.spin, name="executor", daemon=True).start()
-    status = run(wiring, stop)
-    reason = reasons[0] if reasons else "supervisor ended"
+    wiring.executor_thread.spin(executor)
+    status = run(wiring, stop, reasons)
+    reason = reasons[0]
     wiring.request_shutdown(reason)
     if wiring.services is not None:
-        wiring.services.withdraw()
+        wiring.executor_thread.run(wiring.services.withdraw)  # after the stop, which went to the executor first
     wiring.log.write(contract.NODE_STOPPED, reason=reason)
     wiring.log.close()
     time.sleep(TEARDOWN_TIME)  # the cancels, return goals and zero Twist are handed over: let them leave

@@ -4,7 +4,7 @@ subscriptions, and hands them to the supervisor (core/supervisor.py), which owns
 node (ros1/animate_behaviour_node.py) does."""
 import os
 import threading
-from typing import Dict, Optional, Set
+from typing import Callable, Dict, Optional, Set
 
 from geometry_msgs.msg import Twist
 from sensor_msgs.msg import JointState
@@ -43,14 +43,40 @@ BASE_QUEUE = 10
 class Subscription:
     """A subscription the joint-state switch can end (`unregister`, as on ROS 1)."""
 
-    def __init__(self, node, subscription) -> None:
+    def __init__(self, node, subscription, on_executor) -> None:
         self._node = node
         self._subscription = subscription
+        self._on_executor = on_executor
 
     def unregister(self) -> None:
         """Ends the subscription on the executor's thread: rclpy's executor fails (InvalidHandle) when another
         thread destroys a subscription while it builds its wait set."""
-        self._node.executor.create_task(self._node.destroy_subscription, self._subscription)
+        self._on_executor(lambda: self._node.destroy_subscription(self._subscription))
+
+
+class ExecutorThread:
+    """The thread that spins the node's executor (given the node before the node's clients are made), and the work
+    that must run on it."""
+
+    def __init__(self, node) -> None:
+        self._node = node
+        self.thread: Optional[threading.Thread] = None
+
+    def spin(self, executor) -> None:
+        self.thread = threading.Thread(target=executor.spin, name="executor", daemon=True)
+        self.thread.start()
+
+    def ended(self) -> bool:
+        return self.thread is not None and not self.thread.is_alive()
+
+    def run(self, work: Callable[[], None]) -> None:
+        """Runs `work` on the executor's thread, queued until it spins; at once on this thread if the executor has
+        ended, so that a stop still goes out."""
+        executor = self._node.executor
+        if executor is None or self.ended():
+            work()
+        else:
+            executor.create_task(work)
 
 
 class AnimateBehaviourNode:
@@ -88,6 +114,7 @@ class AnimateBehaviourNode:
                                          self._watcher.status_seen)
         self.joint_angles: Optional[JointAnglesTopic] = None
         self.services: Optional[ActivationServices] = None
+        self.executor_thread = ExecutorThread(node)
 
     def start(self, config_file: str, config: Configuration, topics: Dict[str, str]) -> None:
         self.log.write(contract.CONFIGURATION_LOADED, file=config_file, items=configuration_items(config))
@@ -120,8 +147,8 @@ class AnimateBehaviourNode:
         self.watch.watch_controller(action)
         if self.joint_angles is not None:
             return JointAngleStream(part, action, self.joint_angles, self.clock, self.joint_states, self.log)
-        return PartStream(part, action, TrajectoryClient(self.node, action, self.own_goals), self.clock,
-                          self.joint_states, self._post, self.log)
+        client = TrajectoryClient(self.node, action, self.own_goals, self.executor_thread.run)
+        return PartStream(part, action, client, self.clock, self.joint_states, self._post, self.log)
 
     def _make_base(self, topic: str) -> BaseStream:
         self.watch.watch_base(topic)
@@ -138,7 +165,7 @@ class AnimateBehaviourNode:
         def update(message: JointState) -> None:
             self.joint_states.record(list(message.name), list(message.position), seconds_of(message.header.stamp))
         return Subscription(self.node, self.node.create_subscription(JointState, JOINT_STATES_TOPIC, update,
-                                                                     JOINT_STATES_QUEUE))
+                                                                     JOINT_STATES_QUEUE), self.executor_thread.run)
 
     # -- stopping -----------------------------------------------------------------------------------
     def request_shutdown(self, reason: str) -> None:

@@ -43,15 +43,24 @@ def goal_message(joints, timed: TimedTrajectory) -> FollowJointTrajectory.Goal:
 
 
 class SentGoal:
-    """A goal sent: its id, and its cancel, which waits for the server's acceptance if that has not come yet."""
+    """A goal sent: its id, and its cancel, which waits for the server's acceptance if that has not come yet.
+    `on_executor(work)` runs `work` on the executor's thread (TrajectoryClient says why)."""
 
-    def __init__(self, goal: FollowJointTrajectory.Goal) -> None:
+    def __init__(self, goal: FollowJointTrajectory.Goal, on_executor: Callable[[Callable[[], None]], None]) -> None:
         self.goal = goal
         self.uuid = UUID(uuid=list(uuid.uuid4().bytes))
         self.replaced = False  # no longer runs for us
+        self._on_executor = on_executor
         self._lock = threading.Lock()
+        self._sent = False  # the message has gone (rclpy has serialised it)
         self._handle = None  # rclpy's ClientGoalHandle, once the server has answered
         self._cancel_wanted = False
+
+    def went_out(self) -> None:
+        with self._lock:
+            self._sent = True
+            if self.replaced:
+                self.goal.trajectory.points = []
 
     def accepted(self, handle) -> None:
         with self._lock:
@@ -65,19 +74,28 @@ class SentGoal:
             self._cancel_wanted = True
             handle = self._handle
         if handle is not None:
-            handle.cancel_goal_async()
+            self._on_executor(handle.cancel_goal_async)
 
     def release(self) -> None:
-        self.replaced = True
-        self.goal.trajectory.points = []
+        """Its points go once the message has gone (a goal still queued for the executor is sent whole)."""
+        with self._lock:
+            self.replaced = True
+            if self._sent:
+                self.goal.trajectory.points = []
 
 
 class TrajectoryClient:
     """One controller's FollowJointTrajectory client. `own_goals`: the ids of the goals this node has sent lately (the
-    foreign watch tells other clients' goals apart by them); this client keeps its REMEMBERED_GOALS latest there."""
+    foreign watch tells other clients' goals apart by them); this client keeps its REMEMBERED_GOALS latest there.
 
-    def __init__(self, node, action: str, own_goals: Set[bytes], callback_group=None) -> None:
+    Goals and cancels are sent on the executor's thread (`on_executor`): rclpy's ActionClient registers a request's
+    future only after the request has gone, so an answer that the executor's thread takes first is lost or fails
+    (ros2/rclpy#1123, #878)."""
+
+    def __init__(self, node, action: str, own_goals: Set[bytes], on_executor: Callable[[Callable[[], None]], None],
+                 callback_group=None) -> None:
         self.client = ActionClient(node, FollowJointTrajectory, action, callback_group=callback_group)
+        self._on_executor = on_executor
         self._own_goals = own_goals
         self._sent_ids: Deque[bytes] = collections.deque()  # ours in own_goals, the oldest first
 
@@ -90,11 +108,19 @@ class TrajectoryClient:
 
     def send(self, goal: FollowJointTrajectory.Goal,
              done: Callable[[str, Optional[int], str], None]) -> SentGoal:
-        sent = SentGoal(goal)
+        sent = SentGoal(goal, self._on_executor)
         self._remember(bytes(sent.uuid.uuid))
-        future = self.client.send_goal_async(goal, goal_uuid=sent.uuid)
-        future.add_done_callback(lambda answered: self._answered(sent, answered, done))
+        self._on_executor(lambda: self._send_now(sent, done))
         return sent
+
+    def _send_now(self, sent: SentGoal, done) -> None:
+        try:
+            future = self.client.send_goal_async(sent.goal, goal_uuid=sent.uuid)
+        except Exception as error:  # raised on the executor's thread, it would end the executor
+            done(LOST, None, "not sent: %s: %s" % (type(error).__name__, error))
+            return
+        sent.went_out()
+        future.add_done_callback(lambda answered: self._answered(sent, answered, done))
 
     def _remember(self, goal_id: bytes) -> None:
         """`goal_id` joins own_goals and this client's oldest leaves it, so that the set does not grow with every goal

@@ -1,0 +1,58 @@
+"""The thread that spins the ROS 2 node's executor (ros2/animate_behaviour_node.py's ExecutorThread) and the main
+thread's watch of it (ros2/animate_behaviour_main.py's run): work handed over before the executor spins waits for
+it, and runs on its thread; once that thread has ended, work runs at once on the caller's (a stop still goes out),
+and the main thread ends the node with status 1.
+
+Run inside the ROS 2 environment: bash tools/ros2/run.sh python3 -m pytest test/ros2 -q
+"""
+import threading
+import types
+
+import pytest
+
+rclpy = pytest.importorskip("rclpy")
+
+from rclpy.context import Context  # noqa: E402 (after the skip)
+from rclpy.executors import SingleThreadedExecutor  # noqa: E402
+from rclpy.node import Node  # noqa: E402
+
+from cssr_system.ros2 import animate_behaviour_main  # noqa: E402
+from cssr_system.ros2.animate_behaviour_node import ExecutorThread  # noqa: E402
+from domains import claim_domain  # noqa: E402
+from processes import wait_until  # noqa: E402
+
+
+@pytest.fixture
+def node():
+    context = Context()
+    rclpy.init(context=context, domain_id=claim_domain())
+    made = Node("executor_thread_test", context=context)
+    yield made
+    made.destroy_node()
+    rclpy.shutdown(context=context)
+
+
+def test_work_waits_for_the_spin_runs_on_its_thread_and_runs_at_once_after_it_ended(node):
+    executor = SingleThreadedExecutor(context=node.context)
+    executor.add_node(node)
+    spinning = ExecutorThread(node)
+    ran_on = []
+    spinning.run(lambda: ran_on.append(threading.current_thread().name))
+    assert ran_on == [] and not spinning.ended()
+    spinning.spin(executor)
+    assert wait_until(lambda: ran_on == ["executor"], 5.0)
+    executor.shutdown(timeout_sec=2.0)
+    assert wait_until(spinning.ended, 5.0)
+    spinning.run(lambda: ran_on.append(threading.current_thread().name))
+    assert ran_on == ["executor", threading.current_thread().name]
+
+
+def test_the_main_thread_ends_the_node_with_status_1_when_the_executor_has_ended(monkeypatch, capsys):
+    monkeypatch.setattr(animate_behaviour_main, "ALIVE_CHECK_PERIOD", 0.01)
+    alive = types.SimpleNamespace(is_alive=lambda: True)
+    wiring = types.SimpleNamespace(supervisor=types.SimpleNamespace(thread=alive, stopped=threading.Event()),
+                                   executor_thread=types.SimpleNamespace(ended=lambda: True))
+    reasons = []
+    assert animate_behaviour_main.run(wiring, threading.Event(), reasons) == 1
+    assert reasons == ["executor ended"]
+    assert "the executor thread has ended" in capsys.readouterr().err
