@@ -40,3 +40,9 @@ def wait_until(condition, timeout: float, period: float = 0.02) -> bool:
             return True
         time.sleep(period)
     return bool(condition())
+
+
+def fail_on_error(where: str, error: Exception) -> None:
+    """An ExecutorThread's report of an error in the work handed to it: in a test, the error itself, which ends the
+    executor (the tests check that it still runs)."""
+    raise error

@@ -233,12 +233,8 @@ def test_another_clients_goal_is_yielded_to_and_resumed_from(trajectory_run):
     assert wait_until(lambda: statuses and any(status.status == GoalStatus.STATUS_EXECUTING
                                                for status in statuses[-1].status_list), 3.0), "the node's goal runs"
     client.executor.create_task(client.node.destroy_subscription, watch)  # not from this thread while it spins
-    goal = FollowJointTrajectory.Goal()
-    goal.trajectory.joint_names = list(ARM)
-    goal.trajectory.points = [JointTrajectoryPoint(positions=list(PARTS["RArm"].centre), velocities=[0.0] * 5,
-                                                   time_from_start=Duration(sec=1))]
     since = time.time()
-    sent = gesture.send_goal_async(goal)
+    sent = gesture.send_goal_async(arm_gesture(1))
     assert wait_until(lambda: client.part_state("RArm") == "yielding", 2.0), "RArm yields"
     assert client.part_state("LArm") == "animating", "the other parts go on"
     assert wait_until(lambda: run.entries(contract.PART_YIELDED, since), 1.0)
@@ -257,6 +253,42 @@ def test_another_clients_goal_is_yielded_to_and_resumed_from(trajectory_run):
                             for fields in replaced), replaced
     client.node.destroy_client(gesture)
     assert client.activate("disabled") == contract.REPLY_SUCCESS
+
+
+def arm_gesture(seconds: int) -> FollowJointTrajectory.Goal:
+    """Another node's goal: the right arm to its centre in `seconds`, with half a second to settle (the controller
+    judges the measured velocity at the end, which a motion that ends at rest still has for a period or two)."""
+    goal = FollowJointTrajectory.Goal()
+    goal.goal_time_tolerance = Duration(nanosec=500000000)
+    goal.trajectory.joint_names = list(ARM)
+    goal.trajectory.points = [JointTrajectoryPoint(positions=list(PARTS["RArm"].centre), velocities=[0.0] * 5,
+                                                   time_from_start=Duration(sec=seconds))]
+    return goal
+
+
+def test_a_gesture_sent_as_soon_as_disabled_replies_is_not_overtaken_by_the_return_home(trajectory_run):
+    """The reply to `disabled` comes once the return goals have left: another node's next goal reaches the controller
+    after them, so it replaces them, not they it."""
+    run, client = trajectory_run, trajectory_run.client
+    action = "/pepper/RightArm_controller/follow_joint_trajectory"
+    gesture = ActionClient(client.node, FollowJointTrajectory, action)
+    assert gesture.wait_for_server(timeout_sec=5.0)
+    for _ in range(3):
+        since = time.time()
+        assert client.activate("enabled") == contract.REPLY_SUCCESS
+        assert wait_until(lambda: client.part_state("RArm") == "animating", 3.0)
+        time.sleep(0.5)
+        assert client.activate("disabled") == contract.REPLY_SUCCESS
+        sent = gesture.send_goal_async(arm_gesture(1))
+        assert wait_until(sent.done, 3.0) and sent.result().accepted
+        ended = sent.result().get_result_async()
+        assert wait_until(ended.done, 5.0) and ended.result().status == GoalStatus.STATUS_SUCCEEDED, \
+            "the gesture ran to its end"
+        homes = [entry.fields for entry in run.entries(contract.GOAL_FINISHED, since)
+                 if entry.fields["part"] == "RArm" and entry.fields["purpose"] == "home"]
+        assert homes and homes[-1]["state"] == "PREEMPTED", homes
+        assert wait_until(lambda: client.part_state("RArm") == "idle", 2.0)
+    client.node.destroy_client(gesture)
 
 
 def test_a_parameter_change_applies_live_and_a_bad_one_is_refused(trajectory_run):

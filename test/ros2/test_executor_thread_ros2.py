@@ -1,7 +1,7 @@
 """The thread that spins the ROS 2 node's executor (ros2/animate_behaviour_node.py's ExecutorThread) and the main
 thread's watch of it (ros2/animate_behaviour_main.py's run): work handed over before the executor spins waits for
-it, and runs on its thread; once that thread has ended, work runs at once on the caller's (a stop still goes out),
-and the main thread ends the node with status 1.
+it, and runs on its thread, in the order handed over; once that thread has ended, work runs at once on the caller's
+(a stop still goes out), and the main thread ends the node with status 1.
 
 Run inside the ROS 2 environment: bash tools/ros2/run.sh python3 -m pytest test/ros2 -q
 """
@@ -19,7 +19,7 @@ from rclpy.node import Node  # noqa: E402
 from cssr_system.ros2 import animate_behaviour_main  # noqa: E402
 from cssr_system.ros2.animate_behaviour_node import ExecutorThread  # noqa: E402
 from domains import claim_domain  # noqa: E402
-from processes import wait_until  # noqa: E402
+from processes import fail_on_error, wait_until  # noqa: E402
 
 
 @pytest.fixture
@@ -35,7 +35,7 @@ def node():
 def test_work_waits_for_the_spin_runs_on_its_thread_and_runs_at_once_after_it_ended(node):
     executor = SingleThreadedExecutor(context=node.context)
     executor.add_node(node)
-    spinning = ExecutorThread(node)
+    spinning = ExecutorThread(node, fail_on_error)
     ran_on = []
     spinning.run(lambda: ran_on.append(threading.current_thread().name))
     assert ran_on == [] and not spinning.ended()
@@ -45,6 +45,22 @@ def test_work_waits_for_the_spin_runs_on_its_thread_and_runs_at_once_after_it_en
     assert wait_until(spinning.ended, 5.0)
     spinning.run(lambda: ran_on.append(threading.current_thread().name))
     assert ran_on == ["executor", threading.current_thread().name]
+
+
+def test_work_runs_in_the_order_it_was_handed_over(node):
+    """rclpy runs the tasks it holds newest first; a goal and the one that replaces it must leave in order."""
+    executor = SingleThreadedExecutor(context=node.context)
+    executor.add_node(node)
+    spinning = ExecutorThread(node, fail_on_error)
+    order = []
+    for number in range(20):  # before the spin: all wait together
+        spinning.run(lambda number=number: order.append(number))
+    spinning.spin(executor)
+    for number in range(20, 200):  # while it spins
+        spinning.run(lambda number=number: order.append(number))
+    assert wait_until(lambda: len(order) == 200, 5.0)
+    assert order == list(range(200))
+    executor.shutdown(timeout_sec=2.0)
 
 
 def test_the_main_thread_ends_the_node_with_status_1_when_the_executor_has_ended(monkeypatch, capsys):

@@ -17,7 +17,7 @@ from sensor_msgs.msg import JointState  # noqa: E402
 
 from cssr_system.ros2.animate_behaviour_node import ExecutorThread, Subscription  # noqa: E402
 from domains import claim_domain  # noqa: E402
-from processes import wait_until  # noqa: E402
+from processes import fail_on_error, wait_until  # noqa: E402
 
 DOMAIN = claim_domain()
 SWITCHES = 600
@@ -29,7 +29,7 @@ def test_switching_the_joint_state_subscription_from_another_thread_leaves_the_e
     node = Node("joint_state_switch_test", context=context)
     executor = SingleThreadedExecutor(context=context)
     executor.add_node(node)
-    spinning = ExecutorThread(node)
+    spinning = ExecutorThread(node, fail_on_error)
     spinning.spin(executor)
     try:
         publisher = node.create_publisher(JointState, "/joint_states", 10)

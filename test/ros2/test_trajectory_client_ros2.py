@@ -24,7 +24,7 @@ from cssr_system.ros2.animate_behaviour_node import ExecutorThread  # noqa: E402
 from cssr_system.ros2.trajectory_client import REMEMBERED_GOALS, TrajectoryClient  # noqa: E402
 
 from domains import claim_domain  # noqa: E402
-from processes import wait_until  # noqa: E402
+from processes import fail_on_error, wait_until  # noqa: E402
 
 ACTION = "/pepper/RightArm_controller/follow_joint_trajectory"
 GOALS = 300
@@ -60,7 +60,7 @@ def unspun(node):
     """(the node's executor, the thread that will spin it)"""
     executor = SingleThreadedExecutor(context=node.context)
     executor.add_node(node)
-    return executor, ExecutorThread(node)
+    return executor, ExecutorThread(node, fail_on_error)
 
 
 def test_goals_sent_from_another_thread_while_the_executor_spins_each_get_their_end(node):

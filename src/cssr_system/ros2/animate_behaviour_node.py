@@ -2,9 +2,10 @@
 publisher, the services, the action clients or the JointAngles publisher, the base publisher and the
 subscriptions, and hands them to the supervisor (core/supervisor.py), which owns the motion state, as the ROS 1
 node (ros1/animate_behaviour_node.py) does."""
+import collections
 import os
 import threading
-from typing import Callable, Dict, Optional, Set
+from typing import Callable, Deque, Dict, Optional, Set
 
 from geometry_msgs.msg import Twist
 from sensor_msgs.msg import JointState
@@ -56,10 +57,12 @@ class Subscription:
 
 class ExecutorThread:
     """The thread that spins the node's executor (given the node before the node's clients are made), and the work
-    that must run on it."""
+    that must run on it, in the order it was handed over (rclpy runs its own tasks newest first)."""
 
-    def __init__(self, node) -> None:
+    def __init__(self, node, report_error: Callable[[str, Exception], None]) -> None:
         self._node = node
+        self._report_error = report_error
+        self._waiting: Deque[Callable[[], None]] = collections.deque()
         self.thread: Optional[threading.Thread] = None
 
     def spin(self, executor) -> None:
@@ -75,8 +78,17 @@ class ExecutorThread:
         executor = self._node.executor
         if executor is None or self.ended():
             work()
-        else:
-            executor.create_task(work)
+            return
+        self._waiting.append(work)
+        executor.create_task(self._run_waiting)
+
+    def _run_waiting(self) -> None:
+        while self._waiting:
+            work = self._waiting.popleft()
+            try:
+                work()
+            except Exception as error:  # raised here, it would end the executor
+                self._report_error("executor", error)
 
 
 class AnimateBehaviourNode:
@@ -114,7 +126,7 @@ class AnimateBehaviourNode:
                                          self._watcher.status_seen)
         self.joint_angles: Optional[JointAnglesTopic] = None
         self.services: Optional[ActivationServices] = None
-        self.executor_thread = ExecutorThread(node)
+        self.executor_thread = ExecutorThread(node, self.report_error)
 
     def start(self, config_file: str, config: Configuration, topics: Dict[str, str]) -> None:
         self.log.write(contract.CONFIGURATION_LOADED, file=config_file, items=configuration_items(config))
@@ -124,7 +136,7 @@ class AnimateBehaviourNode:
         self.supervisor.start()
         self._watcher.thread.start()
         activation = Activation(self._post, self.log, self.parameters.load, lambda: self.parameters.config_file)
-        self.services = ActivationServices(self.node, activation, self.log)
+        self.services = ActivationServices(self.node, activation, self.log, self.executor_thread.run)
         self.action.start()
         console.info("%s: services %s and %s ready.", NODE_NAME,
                      self.node.resolve_service_name("~/" + contract.SET_ACTIVATION),
