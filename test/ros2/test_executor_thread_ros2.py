@@ -12,24 +12,11 @@ import pytest
 
 rclpy = pytest.importorskip("rclpy")
 
-from rclpy.context import Context  # noqa: E402 (after the skip)
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
-from rclpy.node import Node  # noqa: E402
 
 from cssr_system.ros2 import animate_behaviour_main  # noqa: E402
 from cssr_system.ros2.animate_behaviour_node import ExecutorThread  # noqa: E402
-from domains import claim_domain  # noqa: E402
 from processes import fail_on_error, wait_until  # noqa: E402
-
-
-@pytest.fixture
-def node():
-    context = Context()
-    rclpy.init(context=context, domain_id=claim_domain())
-    made = Node("executor_thread_test", context=context)
-    yield made
-    made.destroy_node()
-    rclpy.shutdown(context=context)
 
 
 def test_work_waits_for_the_spin_runs_on_its_thread_and_runs_at_once_after_it_ended(node):

@@ -14,33 +14,18 @@ rclpy = pytest.importorskip("rclpy")
 
 from control_msgs.action import FollowJointTrajectory  # noqa: E402 (after the skip)
 from rclpy.action import ActionServer  # noqa: E402
-from rclpy.context import Context  # noqa: E402
 from rclpy.executors import SingleThreadedExecutor  # noqa: E402
-from rclpy.node import Node  # noqa: E402
 from trajectory_msgs.msg import JointTrajectoryPoint  # noqa: E402
 
 from cssr_system.core.goals import SUCCEEDED  # noqa: E402
 from cssr_system.ros2.animate_behaviour_node import ExecutorThread  # noqa: E402
 from cssr_system.ros2.trajectory_client import REMEMBERED_GOALS, TrajectoryClient  # noqa: E402
 
-from domains import claim_domain  # noqa: E402
 from processes import fail_on_error, wait_until  # noqa: E402
 
 ACTION = "/pepper/RightArm_controller/follow_joint_trajectory"
 GOALS = 300
 SEND_PERIOD = 0.01  # s; rclpy's services keep the latest 10 requests, so a burst of hundreds would lose some
-
-
-@pytest.fixture
-def node():
-    context = Context()
-    rclpy.init(context=context, domain_id=claim_domain())
-    made = Node("trajectory_client_test", context=context)
-    yield made
-    if made.executor is not None:
-        made.executor.shutdown(timeout_sec=1.0)
-    made.destroy_node()
-    rclpy.shutdown(context=context)
 
 
 class Controller:
