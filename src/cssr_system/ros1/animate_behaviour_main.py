@@ -21,7 +21,7 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import ConfigurationError
 from cssr_system.animate_behaviour.console import Heartbeat, route_console
 from cssr_system.animate_behaviour.contract import NODE_NAME
-from cssr_system.animate_behaviour.malloc_arenas import use_one_malloc_arena
+from cssr_system.animate_behaviour.process_setup import set_up_process
 from cssr_system.ros1.animate_behaviour_node import AnimateBehaviourNode
 from cssr_system.ros1.parameters import (config_file_parameter, load_node_configuration,
                                          parameter_overrides)
@@ -74,7 +74,7 @@ def on_ros_shutdown(stopper: Stopper) -> None:
 
 def main(argv: Optional[List[str]] = None) -> int:
     argv = rospy.myargv(sys.argv if argv is None else argv)
-    use_one_malloc_arena()  # before any thread starts: memory that does not creep over hours of use
+    set_up_process()  # before any thread starts: one malloc arena, a short switch interval
     # The node handles SIGINT and SIGTERM itself: it stops the robot before rospy shuts down.
     rospy.init_node(NODE_NAME, disable_signals=True)
     # The node's console lines (core/console.py) go to rospy's console and /rosout. Their own level (verboseMode)

@@ -24,7 +24,7 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import ConfigurationError
 from cssr_system.animate_behaviour.console import route_console
 from cssr_system.animate_behaviour.contract import NODE_NAME
-from cssr_system.animate_behaviour.malloc_arenas import use_one_malloc_arena
+from cssr_system.animate_behaviour.process_setup import set_up_process
 from cssr_system.ros2.animate_behaviour_node import AnimateBehaviourNode
 from cssr_system.ros2.program import on_signals
 
@@ -82,7 +82,7 @@ def run(wiring: AnimateBehaviourNode, stop: threading.Event, reasons: List[str])
 
 
 def main(argv: Optional[List[str]] = None) -> int:
-    use_one_malloc_arena()  # before any thread starts: memory that does not creep over hours of use
+    set_up_process()  # before any thread starts: one malloc arena, a short switch interval
     rclpy.init(args=sys.argv if argv is None else argv, signal_handler_options=SignalHandlerOptions.NO)
     node = Node(NODE_NAME)
     node.get_logger().set_level(LoggingSeverity.DEBUG)  # the console logger's level (verboseMode) decides
