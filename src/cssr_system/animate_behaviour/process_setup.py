@@ -1,4 +1,4 @@
-"""How the node's process is set up before its first thread starts (README: "Performance").
+"""How the node's process is set up before its first thread starts (doc/performance.md).
 
 - **One malloc arena.** glibc's malloc gives threads arenas of their own, up to eight per core. The node's threads
   come and go (a rospy connection each, a service call each, a controller that restarts), and each new arena keeps
