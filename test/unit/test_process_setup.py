@@ -1,11 +1,14 @@
 """animate_behaviour/process_setup.py: after use_one_malloc_arena, threads that allocate share malloc's one arena
 (glibc's malloc_stats counts them), where without it they get arenas of their own; and a thread waiting for the
-interpreter while another computes gets it within the short switch interval."""
+interpreter while another computes gets it within the short switch interval; and malloc's free pages are handed
+back to the system, once a minute from the main loop."""
 import subprocess
 import sys
 from pathlib import Path
 
 import pytest
+
+from cssr_system.animate_behaviour.process_setup import MEMORY_RETURN_PERIOD, MemoryReturn
 
 SOURCE = Path(__file__).resolve().parents[2] / "src"
 # Four threads that each hold blocks too big for Python's own allocator, then malloc_stats (to stderr).
@@ -69,3 +72,35 @@ def median_wake_delay(mode: str) -> float:
 def test_a_thread_woken_while_another_computes_runs_sooner_after_the_set_up():
     """About 1.4 ms against 5.4 here; a generous bound, as the machine may be busy."""
     assert median_wake_delay("set up") < 0.6 * median_wake_delay("default")
+
+
+RETURN_PROGRAM = """
+import random, sys
+sys.path.insert(0, %r)
+from cssr_system.animate_behaviour.process_setup import return_free_memory
+def resident():
+    with open("/proc/self/statm") as statm:
+        return int(statm.read().split()[1])
+blocks = [bytearray(random.randint(600, 60000)) for _ in range(2000)]
+del blocks[::2]  # holes in the heap's middle, which malloc keeps
+before = resident()
+return_free_memory()
+print(before, resident())
+""" % str(SOURCE)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="glibc's malloc")
+def test_free_pages_in_the_heap_go_back_to_the_system():
+    finished = subprocess.run([sys.executable, "-c", RETURN_PROGRAM], stdout=subprocess.PIPE,
+                              universal_newlines=True, timeout=30, check=True)
+    before, after = map(int, finished.stdout.split())
+    assert after < before - 1000  # pages: about 30 MB of holes, 4 MB at the very least
+
+
+def test_memory_goes_back_once_a_period_from_the_main_loop():
+    now, returned = [100.0], []
+    memory = MemoryReturn(lambda: now[0], lambda: returned.append(now[0]))
+    for _ in range(3 * int(MEMORY_RETURN_PERIOD)):
+        now[0] += 1.0
+        memory.tick()
+    assert returned == [100.0 + MEMORY_RETURN_PERIOD * k for k in (1, 2, 3)]

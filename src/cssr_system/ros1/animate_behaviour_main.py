@@ -21,7 +21,7 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import ConfigurationError
 from cssr_system.animate_behaviour.console import Heartbeat, route_console
 from cssr_system.animate_behaviour.contract import NODE_NAME
-from cssr_system.animate_behaviour.process_setup import set_up_process
+from cssr_system.animate_behaviour.process_setup import MemoryReturn, set_up_process
 from cssr_system.ros1.animate_behaviour_node import AnimateBehaviourNode
 from cssr_system.ros1.parameters import (config_file_parameter, load_node_configuration,
                                          parameter_overrides)
@@ -111,10 +111,11 @@ def main(argv: Optional[List[str]] = None) -> int:
     gc.freeze()
 
     status = 0
-    heartbeat = Heartbeat(time.monotonic)
+    heartbeat, memory = Heartbeat(time.monotonic), MemoryReturn()
     while not stopper.requested.is_set() and not rospy.is_shutdown():
         wakeup.wait(ALIVE_CHECK_PERIOD)
         heartbeat.beat()
+        memory.tick()
         if not stopper.requested.is_set() and not node.stopped and not node.supervisor_alive():
             print("{}: the supervisor thread has ended; stopping the robot and exiting.".format(NODE_NAME),
                   file=sys.stderr, flush=True)

@@ -24,7 +24,7 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import ConfigurationError
 from cssr_system.animate_behaviour.console import route_console
 from cssr_system.animate_behaviour.contract import NODE_NAME
-from cssr_system.animate_behaviour.process_setup import set_up_process
+from cssr_system.animate_behaviour.process_setup import MemoryReturn, set_up_process
 from cssr_system.ros2.animate_behaviour_node import AnimateBehaviourNode
 from cssr_system.ros2.program import on_signals
 
@@ -67,7 +67,9 @@ def load(wiring: AnimateBehaviourNode):
 def run(wiring: AnimateBehaviourNode, stop: threading.Event, reasons: List[str]) -> int:
     """Waits for `stop`; 1 when the supervisor thread ended first (the robot is stopped from here), or the executor's
     (the node hears nothing more: the robot is stopped as at a signal)."""
+    memory = MemoryReturn()
     while not stop.wait(ALIVE_CHECK_PERIOD):
+        memory.tick()
         if not wiring.supervisor.thread.is_alive() and not wiring.supervisor.stopped.is_set():
             fail("the supervisor thread has ended; stopping the robot and exiting.")
             wiring.supervisor.stop_without_thread()
