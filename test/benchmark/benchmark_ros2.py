@@ -174,7 +174,11 @@ class Rig:
 
     def connected(self) -> bool:
         """The graph shows the subject as a client of every part's action."""
-        clients = {name for name, _ in get_action_client_names_and_types_by_node(self.node, contract.NODE_NAME, "/")}
+        try:
+            clients = {name for name, _ in
+                       get_action_client_names_and_types_by_node(self.node, contract.NODE_NAME, "/")}
+        except Exception:  # rclpy's RCLError: the subject is not in this node's graph yet
+            return False
         return clients >= set(self.actions.values())
 
     def _firsts(self, store, since: float) -> dict:
