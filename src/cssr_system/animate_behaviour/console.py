@@ -5,6 +5,7 @@ gesture player, the recorder): one plain line each (`say`)."""
 import logging
 
 from cssr_system.animate_behaviour.contract import NODE_NAME
+from cssr_system.animate_behaviour.periodic import Periodic
 
 console = logging.getLogger(NODE_NAME)
 console.setLevel(logging.INFO)
@@ -42,21 +43,16 @@ def route_console(emit) -> None:
     console.propagate = False
 
 
-class Heartbeat:
+class Heartbeat(Periodic):
     """The console's "running." line every HEARTBEAT_PERIOD s, said by a loop that wakes at least once a second
     anyway (the ROS 1 program's main loop: a timer would be a thread of its own). `clock`: seconds, monotonic."""
 
     def __init__(self, clock, period: float = HEARTBEAT_PERIOD) -> None:
-        self._clock = clock
-        self._period = period
-        self._due = clock() + period
+        super().__init__(clock, period, lambda: console.info("%s: running.", NODE_NAME))
 
     def beat(self) -> None:
         """Says "running." when a period has passed since the last line (once, however long the wait was)."""
-        now = self._clock()
-        if now >= self._due:
-            console.info("%s: running.", NODE_NAME)
-            self._due = now + self._period
+        self.tick()
 
 
 def say(node_name: str, text: str) -> None:

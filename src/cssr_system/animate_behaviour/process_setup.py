@@ -15,6 +15,8 @@ import sys
 import time
 from typing import Callable
 
+from cssr_system.animate_behaviour.periodic import Periodic
+
 M_ARENA_MAX = -8  # glibc's malloc.h
 SWITCH_INTERVAL = 0.001  # s
 MEMORY_RETURN_PERIOD = 60.0  # s
@@ -41,17 +43,9 @@ def return_free_memory() -> None:
         pass
 
 
-class MemoryReturn:
+class MemoryReturn(Periodic):
     """`tick()` from the main loop: return_free_memory every MEMORY_RETURN_PERIOD s."""
 
     def __init__(self, clock: Callable[[], float] = time.monotonic,
                  return_memory: Callable[[], None] = return_free_memory) -> None:
-        self._clock = clock
-        self._return_memory = return_memory
-        self._next = clock() + MEMORY_RETURN_PERIOD
-
-    def tick(self) -> None:
-        now = self._clock()
-        if now >= self._next:
-            self._next = now + MEMORY_RETURN_PERIOD
-            self._return_memory()
+        super().__init__(clock, MEMORY_RETURN_PERIOD, return_memory)
