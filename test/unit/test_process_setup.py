@@ -59,19 +59,20 @@ for _ in range(40):
         pass
     waiter.join()
     delays.append(woke[0] - set_at)
-print(sorted(delays)[len(delays) // 2])
+print(min(delays))  # the least: the interpreter's own hand-over, without the machine's scheduling
 """ % str(SOURCE)
 
 
-def median_wake_delay(mode: str) -> float:
+def least_wake_delay(mode: str) -> float:
     finished = subprocess.run([sys.executable, "-c", WAKE_PROGRAM, mode], stdout=subprocess.PIPE,
                               universal_newlines=True, timeout=30, check=True)
     return float(finished.stdout)
 
 
 def test_a_thread_woken_while_another_computes_runs_sooner_after_the_set_up():
-    """About 1.4 ms against 5.4 here; a generous bound, as the machine may be busy."""
-    assert median_wake_delay("set up") < 0.6 * median_wake_delay("default")
+    """About 1 ms against 5 here; the least of 40 wakes, as a busy machine (`make test` runs its lanes side by side)
+    adds its own waits to any one of them."""
+    assert least_wake_delay("set up") < 0.6 * least_wake_delay("default")
 
 
 RETURN_PROGRAM = """
