@@ -422,6 +422,19 @@ def test_joint_state_holds_every_joint_starting_at_rest(platform):
     assert sample.velocities == [0.0] * len(sample.names)
 
 
+def test_joint_states_are_stamped_with_the_control_update_whose_readings_they_report():
+    # A joint state broadcaster stamps each message with its update's time: a message taken between two updates
+    # reports the earlier one, and saying so keeps the velocity between messages true to their stamps.
+    pepper = SimulatedPepper("simulator", now=0.0)  # measured hardware, updates every 0.02 s
+    arm = pepper.controllers["RArm"]
+    arm.submit("goal", list(arm.joint_names), [point(1.0, [1.0, -0.5, 0.5, 1.0, 0.0])], 0.0)
+    readings = [(pepper.joint_state(now).positions, pepper.reading_time(now)) for now in (0.061, 0.079, 0.081)]
+    assert [time for _, time in readings] == pytest.approx([0.06, 0.06, 0.08])
+    assert readings[0][0] == readings[1][0] != readings[2][0]
+    commanded = SimulatedPepper("simulator", now=0.0, velocity_report=COMMANDED)
+    assert commanded.reading_time(0.061) == 0.061  # the desired state at that very time
+
+
 def test_the_simulator_hands_stay_at_their_centre_and_commanded_joints_move():
     pepper = SimulatedPepper("simulator", now=0.0, velocity_report=COMMANDED)  # reports exactly the command
     assert "RHand" not in pepper.controllers

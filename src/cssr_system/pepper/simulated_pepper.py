@@ -949,6 +949,16 @@ class SimulatedPepper:
             self.driver.set_angles(names, angles, speed, now, relative=bool(relative))
         return problem
 
+    def reading_time(self, now: float) -> float:
+        """When what `joint_state(now)` reports was read, for its stamp (a joint state broadcaster stamps each message
+        with its control update's time): the controllers' last update, as they update together in one control loop;
+        `now` where the state is taken at `now` (a driver modelled, or COMMANDED)."""
+        controllers = list(self.controllers.values())
+        if self.driver is not None or not controllers or controllers[0].velocity_report == COMMANDED:
+            return now
+        controllers[0].reported_state(now)  # runs the updates due by `now`, as joint_state(now) does
+        return controllers[0].last_update.time
+
     def commanded_state(self, now: float) -> JointStateSample:
         """What the controllers command for every joint (JOINTS order, then the wheels): their desired state."""
         return self._sample(now, lambda controller: controller.state(now))

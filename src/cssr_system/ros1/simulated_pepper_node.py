@@ -263,10 +263,12 @@ class SimulatedPepperNode:
         with self._lock:
             now = self._now()
             joints = self.model.joint_state(now)
+            read_at = self.model.reading_time(now)
             base = self.model.base_state(now)
             commanded = self.model.driver_commands(now) if self.model.driver is not None else None
         stamp = rospy.Time.from_sec(now + self._epoch)
         fill_state_messages(stamp, joints, base, self._joint_state, self._odometry, commanded, self._commanded)
+        self._joint_state.header.stamp = rospy.Time.from_sec(read_at + self._epoch)
         self.joint_state_publisher.publish(self._joint_state)
         if commanded is not None:
             self.commanded_publisher.publish(self._commanded)

@@ -448,12 +448,14 @@ class SimulatedPepperNode:
             now = self._now()
             ended = self.model.update(now)
             joints = self.model.joint_state(now)
+            read_at = self.model.reading_time(now)
             base = self.model.base_state(now)
             commanded = self.model.driver_commands(now) if self.model.driver is not None else None
             stamp = self._stamp(now)
         for key, outcome in ended:
             self._deliver(self.model.controllers[key].name, [outcome])
         fill_state_messages(stamp, joints, base, self._joint_state, self._odometry, commanded, self._commanded)
+        self._joint_state.header.stamp = self._stamp(read_at)
         self.joint_state_publisher.publish(self._joint_state)
         if commanded is not None:
             self.commanded_publisher.publish(self._commanded)
