@@ -17,7 +17,7 @@ rclpy = pytest.importorskip("rclpy")
 pytest.importorskip("control_msgs.action")
 pytest.importorskip("naoqi_bridge_msgs.msg")
 
-from action_msgs.msg import GoalStatus  # noqa: E402 (after the skips)
+from action_msgs.msg import GoalStatus, GoalStatusArray  # noqa: E402 (after the skips)
 from builtin_interfaces.msg import Duration  # noqa: E402
 from control_msgs.action import FollowJointTrajectory  # noqa: E402
 from control_msgs.msg import JointTolerance  # noqa: E402
@@ -320,9 +320,34 @@ def test_with_naoqi_driver_joint_angles_move_the_joints_and_sigterm_ends_it(disc
     assert "Traceback" not in out + err
 
 
+def test_a_finished_goal_leaves_the_controllers_status_after_the_result_timeout(discovery_on_this_machine):
+    # Each status message lists every goal the server keeps: kept for 900 s, a busy controller's list would grow to
+    # hundreds of goals, which each client decodes at every change.
+    process = start_node(SECOND_DOMAIN, "platform:=simulator", "goal_time:=0.5", "result_timeout:=1.0")
+    peer = Peer(SECOND_DOMAIN)
+    listed = []  # the goals each status message lists
+    status_qos = QoSProfile(depth=1, durability=DurabilityPolicy.TRANSIENT_LOCAL)  # rcl_action's status profile
+    status_topic = NAMESPACE + "/Head_controller/follow_joint_trajectory/_action/status"
+    peer.node.create_subscription(GoalStatusArray, status_topic,
+                                  lambda message: listed.append(len(message.status_list)), status_qos)
+    try:
+        wait_until_serving(process, peer, ("Head_controller",))
+        first = peer.send("Head_controller", trajectory_goal(HEAD, (0.1, 0.1), 0.2))
+        assert peer.result(first).status == GoalStatus.STATUS_SUCCEEDED
+        peer.spin_for(2.0)
+        second = peer.send("Head_controller", trajectory_goal(HEAD, (0.0, 0.0), 0.2))
+        assert peer.result(second).status == GoalStatus.STATUS_SUCCEEDED
+        peer.spin_until(lambda: listed and listed[-1] == 1, 5.0, "a status listing the second goal alone")
+        assert max(listed) == 1
+    finally:
+        peer.close()
+        stop_node(process)
+
+
 @pytest.mark.parametrize("parameter, expected", [
     ("platform:=mars", "platform must be one of robot, simulator (got 'mars')"),
     ("feedback_rate:=fast", "feedback_rate must be a finite number >= 0 (got 'fast')"),
+    ("result_timeout:=0.0", "result_timeout must be a finite number > 0 (got 0.0)"),
 ])
 def test_a_bad_parameter_value_exits_1_with_one_line(parameter, expected):
     process = start_node(SECOND_DOMAIN, parameter)

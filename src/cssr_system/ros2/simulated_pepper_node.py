@@ -19,6 +19,8 @@ Parameters (declared with these defaults; any other is ignored):
   stopped_velocity_tolerance  every joint's velocity tolerance at a goal's end (0.01; 0: unchecked)
   allow_nonzero_velocity_at_trajectory_end  joint_trajectory_controller's parameter: false (Jazzy's default) rejects
                       a trajectory whose last point still moves; true (Humble's default) takes it
+  result_timeout      s a finished goal stays listed in a controller's status and its result is kept (10, Jazzy's rcl
+                      default, which its controllers use; Humble's: 900)
   An invalid value: one line naming it and what was expected, exit status 1.
 Serves (every name relative: the node's own namespace applies; <ns> is pepper_dcm or pepper):
   <ns>/<Name>_controller/follow_joint_trajectory  control_msgs/action/FollowJointTrajectory. As ros2_control's
@@ -73,6 +75,9 @@ from cssr_system.ros2.program import on_signals, run_node
 
 NODE_NAME = "simulatedPepper"
 UPDATE_RATE = 50.0  # Hz: stepping the model (its control loop catches up), /joint_states and odometry
+# s a finished goal stays in a controller's status and keeps its result: rcl's default from Iron on, which
+# ros2_control's controllers use (rclpy's own server default on Jazzy is 900, Humble's rcl default).
+RESULT_TIMEOUT = 10.0
 JOINT_ANGLES_TOPIC = "joint_angles"  # naoqi_driver2's setAngles topic, in the namespace
 TRAJECTORY_TOPIC_NAME = "joint_trajectory"  # ROS 2 joint_trajectory_controller's topic (ROS 1's is "command")
 # What ros2_controllers' joint_trajectory_controller (Jazzy, Kilted, Rolling) gives a goal that a new goal replaces.
@@ -88,7 +93,8 @@ PARAMETERS: Tuple[Tuple[str, Any], ...] = (
     ("platform", "robot"), ("initial_posture", "rest"), ("moveto_keep_latest", False), ("feedback_rate", 10.0),
     ("driver", IDEAL), ("control_rate", CONTROL_RATE), ("velocity_report", MEASURED), ("goal_time", GOAL_TIME),
     ("stopped_velocity_tolerance", STOPPED_VELOCITY_TOLERANCE),
-    ("allow_nonzero_velocity_at_trajectory_end", JAZZY.allow_nonzero_velocity_at_trajectory_end))
+    ("allow_nonzero_velocity_at_trajectory_end", JAZZY.allow_nonzero_velocity_at_trajectory_end),
+    ("result_timeout", RESULT_TIMEOUT))
 CHOICES = (("platform", tuple(PLATFORMS)), ("initial_posture", POSTURES), ("driver", DRIVERS))
 LOOP_SETTINGS = ("control_rate", "velocity_report", "goal_time", "stopped_velocity_tolerance")
 
@@ -104,6 +110,7 @@ class Settings(NamedTuple):
     goal_time: float
     stopped_velocity_tolerance: float
     allow_nonzero_velocity_at_trajectory_end: bool
+    result_timeout: float
 
 
 def is_number(value: Any) -> bool:
@@ -120,6 +127,8 @@ def check_settings(values: Dict[str, Any]) -> Settings:
             raise ValueError("{} must be true or false (got {!r})".format(name, values[name]))
     if not is_number(values["feedback_rate"]) or values["feedback_rate"] < 0:
         raise ValueError("feedback_rate must be a finite number >= 0 (got {!r})".format(values["feedback_rate"]))
+    if not is_number(values["result_timeout"]) or values["result_timeout"] <= 0:
+        raise ValueError("result_timeout must be a finite number > 0 (got {!r})".format(values["result_timeout"]))
     check_loop_settings(**{name: values[name] for name in LOOP_SETTINGS})
     converted = {name: float(value) if is_number(value) else value for name, value in values.items()}
     return Settings(**converted)
@@ -194,6 +203,7 @@ class SimulatedPepperNode:
         self.rules = JAZZY._replace(
             allow_nonzero_velocity_at_trajectory_end=settings.allow_nonzero_velocity_at_trajectory_end)
         self._feedback_period = 1.0 / settings.feedback_rate if settings.feedback_rate > 0 else None
+        self._result_timeout = settings.result_timeout
         self._next_feedback = 0.0
         self._goals: Dict[bytes, AcceptedGoal] = {}  # accepted, not yet ended, by goal id
         self._canceled_early: set = set()  # ids of goals canceled before the model got them
@@ -220,12 +230,13 @@ class SimulatedPepperNode:
                                        callback_group=MutuallyExclusiveCallbackGroup())
         self.logger.info("platform {}, namespace {}, controllers {}, base {} ({}); control loop {:g} Hz, velocity "
                          "report {}, goal time {:g} s, stopped velocity tolerance {:g}, driver {}, "
-                         "allow_nonzero_velocity_at_trajectory_end {}".format(
+                         "allow_nonzero_velocity_at_trajectory_end {}, result timeout {:g} s".format(
                              self.platform.name, self.platform.namespace,
                              ", ".join(controller.name for controller in self.model.controllers.values()),
                              base_topic(self.platform), self.platform.base_kind, settings.control_rate,
                              settings.velocity_report, settings.goal_time, settings.stopped_velocity_tolerance,
-                             settings.driver, str(settings.allow_nonzero_velocity_at_trajectory_end).lower()))
+                             settings.driver, str(settings.allow_nonzero_velocity_at_trajectory_end).lower(),
+                             settings.result_timeout))
 
     def _create_publishers(self) -> None:
         node = self.node
@@ -251,7 +262,7 @@ class SimulatedPepperNode:
                             goal_callback=functools.partial(self.on_goal_request, key),
                             handle_accepted_callback=functools.partial(self.on_accepted, key),
                             cancel_callback=functools.partial(self.on_cancel, key),
-                            callback_group=callback_group)
+                            callback_group=callback_group, result_timeout=self._result_timeout)
 
     # -- time (the caller holds self._lock) ------------------------------------------------------
     def _now(self) -> float:
