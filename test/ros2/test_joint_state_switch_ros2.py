@@ -1,6 +1,6 @@
 """The node's /joint_states subscription, made and ended from the joint-state switch's thread while the node's
 executor spins (ros2/animate_behaviour_node.py's Subscription, core/joint_states.py's SubscriptionSwitch): the
-executor survives every switch and goes on serving the node.
+executor survives every switch and goes on serving the node, and no callback group keeps the ended subscriptions.
 
 Run inside the ROS 2 environment: bash tools/ros2/run.sh python3 -m pytest test/ros2 -q
 """
@@ -36,15 +36,16 @@ def test_switching_the_joint_state_subscription_from_another_thread_leaves_the_e
         ticks = []
         node.create_timer(0.001, lambda: ticks.append(publisher.publish(JointState(name=["HipPitch"],
                                                                                    position=[0.0]))))
+        kept = len(node.default_callback_group.entities)
         for switch in range(SWITCHES):
-            subscription = Subscription(node, node.create_subscription(JointState, "/joint_states",
-                                                                       lambda message: None, 1), spinning.run)
+            subscription = Subscription(node, JointState, "/joint_states", lambda message: None, 1, spinning.run)
             time.sleep(0.001 * (switch % 4))  # messages come in, and the executor waits on the subscription
             subscription.unregister()
         served = len(ticks)
         assert not spinning.ended(), "the executor died"
         assert wait_until(lambda: len(ticks) > served + 10, 5.0), "the executor no longer serves the node"
         assert wait_until(lambda: not list(node.subscriptions), 5.0), "every subscription ended"
+        assert len(node.default_callback_group.entities) == kept
     finally:
         executor.shutdown(timeout_sec=1.0)
         node.destroy_node()

@@ -8,6 +8,7 @@ import threading
 from typing import Callable, Deque, Dict, Optional, Set
 
 from geometry_msgs.msg import Twist
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
 from sensor_msgs.msg import JointState
 
 from cssr_system.animate_behaviour import contract
@@ -42,11 +43,14 @@ BASE_QUEUE = 10
 
 
 class Subscription:
-    """A subscription the joint-state switch can end (`unregister`, as on ROS 1)."""
+    """A subscription the joint-state switch can end (`unregister`, as on ROS 1). It has a callback group of its own:
+    a callback group keeps a reference to every subscription ever added to it (ros2/rclpy#1356), so the node's
+    default group would grow with each subscription made and ended."""
 
-    def __init__(self, node, subscription, on_executor) -> None:
+    def __init__(self, node, message_type, topic: str, callback, queue: int, on_executor) -> None:
         self._node = node
-        self._subscription = subscription
+        self._subscription = node.create_subscription(message_type, topic, callback, queue,
+                                                      callback_group=MutuallyExclusiveCallbackGroup())
         self._on_executor = on_executor
 
     def unregister(self) -> None:
@@ -176,8 +180,8 @@ class AnimateBehaviourNode:
     def _subscribe_joint_states(self) -> Subscription:
         def update(message: JointState) -> None:
             self.joint_states.record(list(message.name), list(message.position), seconds_of(message.header.stamp))
-        return Subscription(self.node, self.node.create_subscription(JointState, JOINT_STATES_TOPIC, update,
-                                                                     JOINT_STATES_QUEUE), self.executor_thread.run)
+        return Subscription(self.node, JointState, JOINT_STATES_TOPIC, update, JOINT_STATES_QUEUE,
+                            self.executor_thread.run)
 
     # -- stopping -----------------------------------------------------------------------------------
     def request_shutdown(self, reason: str) -> None:
