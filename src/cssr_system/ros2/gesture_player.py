@@ -63,6 +63,11 @@ class GesturePlayer:
             say("error: no action server on %s within %.0f s: no gesture" % (self.action, SERVER_TIMEOUT))
             self._playing.release()
             return
+        # rclpy's ActionClient registers a goal's future only after sending the goal: sent from this thread, an
+        # answer the executor's thread took first would be lost (ros2/rclpy#1123). The executor's thread sends it.
+        self.node.executor.create_task(self._send_goal)
+
+    def _send_goal(self) -> None:
         sent = time.monotonic()
         self.client.send_goal_async(gesture_goal()).add_done_callback(lambda future: self._accepted(future, sent))
         say("gesture on the %s started (%g s, goal to %s)" % (self.label, GESTURE_DURATION, self.action))
