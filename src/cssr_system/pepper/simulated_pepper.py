@@ -1002,12 +1002,13 @@ def yaw_quaternion(heading: float) -> Tuple[float, float, float, float]:
     return 0.0, 0.0, math.sin(heading / 2.0), math.cos(heading / 2.0)
 
 
-def fill_state_messages(stamp, joints: JointStateSample, base: BaseState, joint_state, odometry,
+def fill_state_messages(stamp, joints_stamp, joints: JointStateSample, base: BaseState, joint_state, odometry,
                         commanded: Optional[JointStateSample] = None, commanded_message=None) -> None:
     """Fills one control update's messages, of either ROS (their fields have the same names): `joint_state`
     (sensor_msgs JointState, its names set once), `odometry` (nav_msgs Odometry) and, where a driver is modelled,
-    `commanded_message` (a JointState of what the driver commanded)."""
-    joint_state.header.stamp = stamp
+    `commanded_message` (a JointState of what the driver commanded). `joints_stamp` dates `joint_state`: when its
+    readings were taken (`SimulatedPepper.reading_time`); `stamp` the others."""
+    joint_state.header.stamp = joints_stamp
     joint_state.position, joint_state.velocity = joints.positions, joints.velocities
     if commanded is not None:
         commanded_message.header.stamp = stamp

@@ -267,8 +267,8 @@ class SimulatedPepperNode:
             base = self.model.base_state(now)
             commanded = self.model.driver_commands(now) if self.model.driver is not None else None
         stamp = rospy.Time.from_sec(now + self._epoch)
-        fill_state_messages(stamp, joints, base, self._joint_state, self._odometry, commanded, self._commanded)
-        self._joint_state.header.stamp = rospy.Time.from_sec(read_at + self._epoch)
+        fill_state_messages(stamp, rospy.Time.from_sec(read_at + self._epoch), joints, base, self._joint_state,
+                            self._odometry, commanded, self._commanded)
         self.joint_state_publisher.publish(self._joint_state)
         if commanded is not None:
             self.commanded_publisher.publish(self._commanded)

@@ -465,8 +465,8 @@ class SimulatedPepperNode:
             stamp = self._stamp(now)
         for key, outcome in ended:
             self._deliver(self.model.controllers[key].name, [outcome])
-        fill_state_messages(stamp, joints, base, self._joint_state, self._odometry, commanded, self._commanded)
-        self._joint_state.header.stamp = self._stamp(read_at)
+        fill_state_messages(stamp, self._stamp(read_at), joints, base, self._joint_state, self._odometry, commanded,
+                            self._commanded)
         self.joint_state_publisher.publish(self._joint_state)
         if commanded is not None:
             self.commanded_publisher.publish(self._commanded)
