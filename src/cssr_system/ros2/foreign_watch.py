@@ -21,7 +21,7 @@ from cssr_system.core.events import ForeignCommand, ForeignJointAngles, ForeignT
 from cssr_system.core.foreign_goals import ForeignGoals
 from cssr_system.core.foreign_motion import set_angles_on_our_joints
 from cssr_system.ros2.joint_angles_topic import joint_angles_key
-from cssr_system.ros2.rclpy_compat import OwnMessages, endpoint_names, other_action_client
+from cssr_system.ros2.rclpy_compat import ACTION_STATUS, OwnMessages, endpoint_names, other_action_client
 from cssr_system.ros2.time_conversion import seconds_of
 
 RUNNING_STATES = (GoalStatus.STATUS_ACCEPTED, GoalStatus.STATUS_EXECUTING, GoalStatus.STATUS_CANCELING)
@@ -61,7 +61,7 @@ class ForeignCommandWatch:
         self._positions: Callable[[Sequence[str]], Optional[numpy.ndarray]] = lambda joints: None
 
     def watch_controller(self, action: str) -> None:
-        self._subscribe(GoalStatusArray, action + "/_action/status", self._on_status, action,
+        self._subscribe(GoalStatusArray, action + ACTION_STATUS, self._on_status, action,
                         qos_profile_action_status_default)
         self._subscribe(JointTrajectory, trajectory_topic(action), self._on_trajectory, action)
 
