@@ -24,10 +24,9 @@ ALLOWED_GROWTH = 300_000  # bytes of malloc in use after CALLS calls; rclpy's ac
 
 
 def other_node(node, name):
-    """A node of `node`'s context with a client of ACTION."""
+    """A node of `node`'s context, and its client of ACTION."""
     made = Node(name, context=node.context)
-    made.client = ActionClient(made, FollowJointTrajectory, ACTION)
-    return made
+    return made, ActionClient(made, FollowJointTrajectory, ACTION)
 
 
 def malloc_in_use() -> int:
@@ -48,10 +47,10 @@ def malloc_in_use() -> int:
 def test_the_one_other_client_is_named_and_two_are_not(node):
     ActionClient(node, FollowJointTrajectory, ACTION)  # the node's own client never counts
     assert other_action_client(node, ACTION) == "another client of " + ACTION, "no other client yet"
-    player = other_node(node, "gesture_player")
+    player, _ = other_node(node, "gesture_player")
     assert wait_until(lambda: other_action_client(node, ACTION) == "/gesture_player", 5.0), \
         other_action_client(node, ACTION)
-    second = other_node(node, "attention")
+    second, _ = other_node(node, "attention")
     assert wait_until(lambda: other_action_client(node, ACTION) == "another client of " + ACTION, 5.0), \
         "two other clients: neither is named"
     second.destroy_node()
@@ -60,7 +59,7 @@ def test_the_one_other_client_is_named_and_two_are_not(node):
 
 def test_asking_all_day_leaves_no_memory(node):
     ActionClient(node, FollowJointTrajectory, ACTION)
-    player = other_node(node, "gesture_player")
+    player, _ = other_node(node, "gesture_player")
     assert wait_until(lambda: other_action_client(node, ACTION) == "/gesture_player", 5.0)
     for _ in range(200):  # the first calls' one-time allocations
         other_action_client(node, ACTION)
