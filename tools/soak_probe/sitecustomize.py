@@ -19,7 +19,7 @@ import time
 import tracemalloc
 
 
-def _malloc_info():
+def malloc_info():
     """glibc's mallinfo2 (size_t fields), or mallinfo (int fields) before 2.33; None without glibc."""
     try:
         libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
@@ -37,15 +37,20 @@ def _malloc_info():
     return function
 
 
+def malloc_bytes(mallinfo):
+    """Bytes in use and free bytes kept, from `mallinfo` (malloc_info()'s): in use, the arenas' allocated chunks and
+    the chunks malloc mapped on their own; free, what the arenas keep without handing it back to the system."""
+    info = mallinfo()
+    return info.uordblks + info.hblkhd, info.fordblks
+
+
 def _write_heap(path: str, period: float) -> None:
-    mallinfo = _malloc_info()
+    mallinfo = malloc_info()
     while True:
         figures = {"python blocks": sys.getallocatedblocks()}
         if mallinfo is not None:
-            info = mallinfo()
-            # In use: the arenas' allocated chunks and the chunks malloc mapped on their own; free: what the arenas
-            # keep without handing it back to the system.
-            figures.update({"malloc in use": (info.uordblks + info.hblkhd) / 1e6, "malloc free": info.fordblks / 1e6})
+            in_use, free = malloc_bytes(mallinfo)
+            figures.update({"malloc in use": in_use / 1e6, "malloc free": free / 1e6})
         with open(path + ".new", "w") as stream:
             json.dump(figures, stream)
         os.replace(path + ".new", path)

@@ -51,7 +51,7 @@ def other_action_client(node, action: str) -> str:
 
     An action's clients are the subscribers of its feedback topic, as rcl_action finds them. The topic is asked, not
     each node with rclpy.action's get_action_client_names_and_types_by_node: rclpy never frees the names that one
-    returns (about 700 bytes a call, a call per node in the graph)."""
+    returns (hundreds of bytes a call, a call per node in the graph)."""
     clients = endpoint_names(node.get_subscriptions_info_by_topic(action + ACTION_FEEDBACK))
     clients.discard(node.get_fully_qualified_name())
     return clients.pop() if len(clients) == 1 else "another client of %s" % action
