@@ -27,7 +27,12 @@ link_unless_installed naoqi_bridge_msgs
 # catkin caches an empty PYTHONPATH on a first configure unless this folder already exists.
 mkdir -p "$WORKSPACE_DIR/devel/lib/python3/dist-packages"
 
+# One build at a time in a workspace: the test command's soaks and demos each make sure it is built, together, and two
+# catkin_make runs in one build folder fail each other. A second one waits, then finds nothing to do.
+exec 9> "$WORKSPACE_DIR/.build.lock"
+flock 9
 log_step "building $WORKSPACE_DIR"
+# The end of the log on stderr: callers that keep stdout quiet still say why a build failed.
 catkin_make -C "$WORKSPACE_DIR" -DPYTHON_EXECUTABLE=/usr/bin/python3 -DCATKIN_ENABLE_TESTING=ON \
-  > "$WORKSPACE_DIR/build.log" 2>&1 || { tail -n 40 "$WORKSPACE_DIR/build.log"; exit 1; }
+  > "$WORKSPACE_DIR/build.log" 2>&1 || { tail -n 40 "$WORKSPACE_DIR/build.log" >&2; echo "build failed" >&2; exit 1; }
 echo "built; to use it: source $WORKSPACE_DIR/devel/setup.bash"
