@@ -2,6 +2,7 @@
 and `set_enabled`: they run on the ROS library's threads and only request transitions. An `enabled` is validated
 here, so a reply never says "1" for a configuration that cannot be applied; the supervisor applies it."""
 import threading
+import time
 from typing import Callable, Tuple
 
 from cssr_system.animate_behaviour import contract
@@ -10,7 +11,11 @@ from cssr_system.animate_behaviour.console import console
 from cssr_system.animate_behaviour.contract import ACCEPTED_STATES, DISABLED, NODE_NAME, parse_activation_state
 from cssr_system.core.events import Disable, Enable
 
-SERVICE_REPLY_TIMEOUT = 0.08  # s a service waits for the supervisor to apply a request
+# A `disabled` replies once the supervisor has sent the stop, so that a caller's next goal reaches the controllers
+# after it. The supervisor never waits for I/O, so only a busy machine delays it: the console names a stop slower
+# than SLOW_STOP, and a supervisor that has not sent it within STOP_REPLY_LIMIT (a hung one) no longer holds the reply.
+SLOW_STOP = 0.08  # s
+STOP_REPLY_LIMIT = 0.5  # s
 
 
 class Activation:
@@ -18,8 +23,9 @@ class Activation:
     topics) as the node's parameters say now, or raises ConfigurationError; `config_file()`: the file they name."""
 
     def __init__(self, post: Callable[[object], None], log, configure: Callable[[], tuple],
-                 config_file: Callable[[], str]) -> None:
+                 config_file: Callable[[], str], stop_reply_limit: float = STOP_REPLY_LIMIT) -> None:
         self._post = post
+        self._stop_reply_limit = stop_reply_limit
         self._log = log
         self._configure = configure
         self._config_file = config_file
@@ -47,7 +53,13 @@ class Activation:
 
     def _request(self, make_event) -> None:
         done = threading.Event()
+        started = time.monotonic()
         self._post(make_event(done))
-        if not done.wait(SERVICE_REPLY_TIMEOUT):
-            console.warning("%s: the request is taking longer than %.0f ms; it will still be applied.",
-                            NODE_NAME, SERVICE_REPLY_TIMEOUT * 1000)
+        if not done.wait(self._stop_reply_limit):
+            console.warning("%s: the stop has not been sent within %.0f ms; replying now, it will still be applied.",
+                            NODE_NAME, self._stop_reply_limit * 1000)
+            return
+        waited = time.monotonic() - started
+        if waited > SLOW_STOP:
+            console.warning("%s: the stop took %.0f ms to be sent (more than %.0f ms: a busy machine).", NODE_NAME,
+                            waited * 1000, SLOW_STOP * 1000)
