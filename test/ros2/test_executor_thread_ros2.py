@@ -50,6 +50,30 @@ def test_work_runs_in_the_order_it_was_handed_over(node):
     executor.shutdown(timeout_sec=2.0)
 
 
+def test_a_callback_of_the_executor_runs_the_work_handed_over_so_far_at_once_and_other_threads_do_not(node):
+    """A service's answer to `disabled` comes after the stop's goals have left: the service, a callback on the
+    executor's thread, runs what the supervisor handed over before it answers (ros2/services.py)."""
+    executor = SingleThreadedExecutor(context=node.context)
+    executor.add_node(node)
+    spinning = ExecutorThread(node, fail_on_error)
+    order = []
+    spinning.spin(executor)
+
+    def callback():  # as a service's: work handed over from another thread, then run_pending, then the answer
+        handing = threading.Thread(target=lambda: [spinning.run(lambda n=n: order.append(n)) for n in range(3)])
+        handing.start()
+        handing.join()
+        spinning.run_pending()
+        order.append("answer")
+    spinning.run(callback)
+    assert wait_until(lambda: "answer" in order, 5.0)
+    assert order == [0, 1, 2, "answer"]
+    spinning.run(lambda: order.append("later"))
+    spinning.run_pending()  # not the executor's thread: the executor runs it, as handed over
+    assert wait_until(lambda: order[-1] == "later", 5.0) and order.count("later") == 1
+    executor.shutdown(timeout_sec=2.0)
+
+
 def test_the_main_thread_ends_the_node_with_status_1_when_the_executor_has_ended(monkeypatch, capsys):
     monkeypatch.setattr(animate_behaviour_main, "ALIVE_CHECK_PERIOD", 0.01)
     alive = types.SimpleNamespace(is_alive=lambda: True)

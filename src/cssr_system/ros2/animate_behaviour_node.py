@@ -86,6 +86,12 @@ class ExecutorThread:
         self._waiting.append(work)
         executor.create_task(self._run_waiting)
 
+    def run_pending(self) -> None:
+        """Runs the work handed over so far now, when called on the executor's thread (by one of its callbacks);
+        elsewhere the executor runs it, as handed over."""
+        if threading.current_thread() is self.thread:
+            self._run_waiting()
+
     def _run_waiting(self) -> None:
         while self._waiting:
             work = self._waiting.popleft()
@@ -140,7 +146,7 @@ class AnimateBehaviourNode:
         self.supervisor.start()
         self._watcher.thread.start()
         activation = Activation(self._post, self.log, self.parameters.load, lambda: self.parameters.config_file)
-        self.services = ActivationServices(self.node, activation, self.log, self.executor_thread.run)
+        self.services = ActivationServices(self.node, activation, self.log, self.executor_thread.run_pending)
         self.action.start()
         console.info("%s: services %s and %s ready.", NODE_NAME,
                      self.node.resolve_service_name("~/" + contract.SET_ACTIVATION),

@@ -2,12 +2,11 @@
 the same fields and replies as on ROS 1) and `set_enabled` (std_srvs/srv/SetBool), over core/activation.py.
 
 A `disabled` replies once the stop's goals have left, as on ROS 1, so that a caller's next command never races
-them: they leave from the executor's thread, which also answers, so the answer waits (the callbacks are coroutines)
-for the work handed to that thread before it."""
+them: the services run on the executor's thread, the one the goals leave from, so once the supervisor has handed the
+stop over, the service sends what was handed over, then answers (no coroutine, no extra turn of the executor)."""
 from typing import Callable
 
 from cssr_system_interfaces.srv import SetActivation
-from rclpy.task import Future
 from std_srvs.srv import SetBool
 
 from cssr_system.animate_behaviour import contract
@@ -16,11 +15,11 @@ from cssr_system.core.activation import Activation
 
 
 class ActivationServices:
-    def __init__(self, node, activation: Activation, log, on_executor: Callable[[Callable[[], None]], None],
+    def __init__(self, node, activation: Activation, log, run_pending: Callable[[], None],
                  callback_group=None) -> None:
         self._log = log
         self._activation = activation
-        self._on_executor = on_executor
+        self._run_pending = run_pending
         self._services = [
             # Private names: under the node's name, in its namespace (README: "Several robots").
             node.create_service(SetActivation, "~/" + contract.SET_ACTIVATION, self.handle_set_activation,
@@ -35,23 +34,17 @@ class ActivationServices:
             self._node.destroy_service(service)
         self._services = []
 
-    def _handed_over(self) -> Future:
-        """Done once the executor's thread has run the work handed to it so far (the supervisor's stop, say)."""
-        future = Future()
-        self._on_executor(lambda: future.set_result(None))
-        return future
-
-    async def handle_set_activation(self, request, response):
+    def handle_set_activation(self, request, response):
         accepted, _ = self._activation.activate(request.state)
-        await self._handed_over()
+        self._run_pending()
         response.success = REPLY_SUCCESS if accepted else REPLY_FAILURE
         self._log.write(contract.ACTIVATION_REQUEST, state=request.state, reply=response.success)
         return response
 
-    async def handle_set_enabled(self, request, response):
+    def handle_set_enabled(self, request, response):
         state = ENABLED if request.data else DISABLED
         accepted, message = self._activation.activate(state)
-        await self._handed_over()
+        self._run_pending()
         self._log.write(contract.ACTIVATION_REQUEST, state=state, reply=REPLY_SUCCESS if accepted else REPLY_FAILURE,
                         service="set_enabled")
         response.success, response.message = accepted, message
