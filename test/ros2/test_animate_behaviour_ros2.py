@@ -39,6 +39,7 @@ from cssr_system.animate_behaviour.event_log import read_log  # noqa: E402
 from cssr_system.core.joint_states import REST_DELAY  # noqa: E402
 from cssr_system.package_files import data_dir  # noqa: E402
 from cssr_system.pepper.joint_table import PARTS  # noqa: E402
+from cssr_system.ros2.animate_action import RESULT_TIMEOUT  # noqa: E402
 
 from domains import claim_domain  # noqa: E402
 from processes import start_program, stop_program as stop, wait_until  # noqa: E402
@@ -453,4 +454,26 @@ def test_an_animate_goal_with_a_bad_value_is_rejected_and_changes_nothing(trajec
                  animate_goal(intensity=0.5, duration=-1.0)):
         assert not animate.send(goal).accepted, goal
     assert not client.status.enabled and run.node.poll() is None
+    animate.close()
+
+
+def test_an_ended_animate_goal_leaves_the_actions_status_after_its_result_timeout(trajectory_run):
+    # Each status message lists every goal the server keeps: kept rclpy's default 900 s, a quarter of an hour of them.
+    # rcl_action (Jazzy) expires a goal RESULT_TIMEOUT after its acceptance, at its expiry timer's next call, which
+    # may come one period later: twice RESULT_TIMEOUT at most.
+    client = trajectory_run.client
+    listed = []  # the goals each status message lists
+    client.node.create_subscription(GoalStatusArray, "/animateBehaviour/animate/_action/status",
+                                    lambda message: listed.append(len(message.status_list)),
+                                    qos_profile_action_status_default)
+    animate = AnimateClient(client)
+    ended = animate.send(animate_goal(intensity=0.5, duration=1.0))
+    assert animate.result(ended).status == GoalStatus.STATUS_SUCCEEDED
+    time.sleep(2 * RESULT_TIMEOUT)
+    since = len(listed)
+    last = animate.send(animate_goal(intensity=0.5))
+    assert wait_until(lambda: len(listed) > since, 2.0), "a status since the last goal"
+    assert max(listed[since:]) == 1, "a goal that ended %g s ago is still listed" % (2 * RESULT_TIMEOUT)
+    last.cancel_goal_async()
+    assert animate.result(last).status == GoalStatus.STATUS_CANCELED
     animate.close()

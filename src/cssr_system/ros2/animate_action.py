@@ -22,6 +22,11 @@ from cssr_system.core.session import GoalRefused, checked_goal
 from cssr_system.ros2.rclpy_compat import other_action_client
 from cssr_system.ros2.status import part_statuses
 
+# How long an ended goal stays on the action's status and its result can be asked for: rcl's default since Iron,
+# which Jazzy's controllers keep. rclpy's own default (900 s, Humble to Kilted) keeps every goal of a quarter of an
+# hour listed in each status message the server publishes, and in its clients' memory.
+RESULT_TIMEOUT = 10.0
+
 
 def goal_id(handle) -> bytes:
     """A goal's key (rclpy's goal handles are not hashable in every release)."""
@@ -49,7 +54,8 @@ class AnimateActionServer:
 
     def start(self) -> None:
         self._server = ActionServer(self._node, Animate, self.name, self._execute,
-                                    goal_callback=self._on_goal, cancel_callback=self._on_cancel)
+                                    goal_callback=self._on_goal, cancel_callback=self._on_cancel,
+                                    result_timeout=RESULT_TIMEOUT)
 
     # -- rclpy's callbacks, on the executor's thread -------------------------------------------------
     def _on_goal(self, request) -> GoalResponse:
