@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # `make soak`: the node under compressed use on the simulated Pepper, its process sampled every 10 s (doc/soak.md).
 # Not part of `make test` (its 3-minute version is: test/soak/). Each figure is printed beside its target; the run's
-# JSON goes to <workspace>/soak/soak-rosN.json and the report of both front-ends' latest runs to doc/soak-latest.md.
+# JSON goes to <workspace>/soak/soak-rosN.json and the report of both front-ends' latest runs to doc/soak-latest.md
+# (the sections of a front-end not run this time are kept).
 #   SOAK_DURATION (minutes judged, default 60), SOAK_WARM_UP (minutes before them, not judged, default 10),
 #   SOAK_ROS (1 or 2, default 1; 2 exits 3 where no Python suits the ROS 2 wheels),
 #   SOAK_SEED (the churn's, default 1), SOAK_RESTART_MINUTES (between restarts of the simulated Pepper, default 10),

@@ -1,5 +1,6 @@
 """The soak's ROS-free parts (doc/soak.md): its churn schedule, the least-squares slope and the percentiles, the
 verdicts against the targets, the log read across a rotation, a run played on a fake driver, and the report."""
+import json
 import os
 import subprocess
 import sys
@@ -248,6 +249,23 @@ def test_the_report_page_and_its_plot(tmp_path):
     result["samples"] = result["samples"][:200]
     assert "33 minutes, of which 10 of warm-up are not judged (cut short: 70 were planned)" in report.markdown(
         {"1": result}, {})
+
+
+def test_a_run_of_one_front_end_rewrites_its_section_and_keeps_the_others(tmp_path):
+    page = tmp_path / "soak-latest.md"
+    both = {"1": result_of(rss_growth_per_hour=0.2), "2": result_of()}
+    both["1, simulated clock"] = dict(both["1"], ros="1, simulated clock")
+    page.write_text(report.markdown(both, {}))
+    before = report.sections(page.read_text())
+    assert sorted(before) == ["1", "1, simulated clock", "2"]
+    again = tmp_path / "soak-ros2.json"
+    again.write_text(json.dumps(dict(result_of(rss_growth_per_hour=0.4), ros="2")))
+    assert report.main(["--markdown", str(page), str(again), str(tmp_path / "missing.json")]) == 0
+    after = report.sections(page.read_text())
+    assert sorted(after) == ["1", "1, simulated clock", "2"]
+    assert after["1"] == before["1"] and after["1, simulated clock"] == before["1, simulated clock"]
+    assert "| resident memory growth (MB/h) | 0.40 |" in after["2"]
+    assert "| resident memory growth (MB/h) | 0.40 |" not in before["2"]
 
 
 def test_the_probe_writes_what_the_allocators_hold(tmp_path):

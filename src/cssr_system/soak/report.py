@@ -1,6 +1,6 @@
 """The soak's report (doc/soak.md): each figure beside its target as text, `doc/soak-latest.md` for the front-ends
-that have a result, and a plot of resident memory, CPU and threads over time with the churn marked. Pure Python: no
-ROS (matplotlib only when plotting).
+that have a result (the page's sections of the others kept as they were), and a plot of resident memory, CPU and
+threads over time with the churn marked. Pure Python: no ROS (matplotlib only when plotting).
 
 python3 -m cssr_system.soak.report --markdown doc/soak-latest.md RESULT.json... (each a run's JSON, its front-end in
 its "ros" field)
@@ -10,7 +10,7 @@ import json
 import os
 import re
 import sys
-from typing import Dict, List
+from typing import Dict, List, Optional
 
 from cssr_system.soak.figures import context, memory_slopes, number, table
 from cssr_system.soak.schedule import DISABLE, ENABLE, GESTURE, RESTART
@@ -43,11 +43,27 @@ def churn_text(about: dict) -> str:
                 about["replies"], about["failed replies"]))
 
 
-def markdown(results: Dict[str, dict], plots: Dict[str, str]) -> str:
-    """doc/soak-latest.md: one section per front-end (`results` by "1" or "2"), its plot beside it."""
+SECTION = re.compile(r"^## ROS (.+)$", re.MULTILINE)
+
+
+def sections(page: str) -> Dict[str, str]:
+    """A report page's sections by front-end ("1", "1, simulated clock", "2"), each from its heading on."""
+    starts = list(SECTION.finditer(page))
+    ends = [match.start() for match in starts[1:]] + [len(page)]
+    return {match.group(1): page[match.start():end].rstrip("\n") + "\n" for match, end in zip(starts, ends)}
+
+
+def markdown(results: Dict[str, dict], plots: Dict[str, str], kept: Optional[Dict[str, str]] = None) -> str:
+    """doc/soak-latest.md: one section per front-end (`results` by "1" or "2"), its plot beside it; `kept`: the
+    sections of front-ends without a result this time, from the page as it was (a run of one front-end keeps the
+    others' latest)."""
     lines = ["<!-- Written by `make soak` (cssr_system.soak.report). Do not edit: run it again. -->", "",
              "# Latest soak", "", "What the soak does and how to read it: [soak.md](soak.md).", ""]
-    for ros in sorted(results):
+    kept = {ros: section for ros, section in (kept or {}).items() if ros not in results}
+    for ros in sorted(set(results) | set(kept)):
+        if ros in kept:
+            lines.append(kept[ros])
+            continue
         result = results[ros]
         about = context(result)
         lines += ["## ROS %s" % ros, "",
@@ -170,8 +186,12 @@ def main(argv: List[str]) -> int:
         name = plot_name(ros)
         plot(result, os.path.join(folder, name))
         plots[ros] = name
+    kept = {}
+    if os.path.exists(arguments.markdown):
+        with open(arguments.markdown) as stream:
+            kept = sections(stream.read())
     with open(arguments.markdown, "w") as stream:
-        stream.write(markdown(results, plots))
+        stream.write(markdown(results, plots, kept))
     print("report written to %s" % arguments.markdown)
     return 0
 
