@@ -54,7 +54,7 @@ from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterDescriptor
 from rclpy.action import ActionServer, CancelResponse, GoalResponse
-from rclpy.callback_groups import MutuallyExclusiveCallbackGroup, ReentrantCallbackGroup
+from rclpy.callback_groups import MutuallyExclusiveCallbackGroup
 from rclpy.executors import MultiThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, QoSProfile, ReliabilityPolicy
@@ -213,19 +213,22 @@ class SimulatedPepperNode:
         self._joint_angle_problems: set = set()  # kinds of invalid /joint_angles messages already warned about
         self._create_publishers()
         self._publish_violations()
-        # Goals of several controllers, their cancels and the updates run at once: each execute callback waits for
-        # its goal's verdict on a thread of its own; the update timer has its own group so ticks never overlap.
-        actions = ReentrantCallbackGroup()
-        self.servers = {key: self._action_server(key, actions) for key in self.model.controllers}
+        # Each controller takes its goals, cancels and command trajectories one at a time, in the order they came, as
+        # a controller does: side by side, a later goal could be accepted first and then be replaced by the earlier
+        # one. Controllers run beside each other; each execute callback waits for its goal's verdict on a thread of
+        # its own (rclpy runs it as a task, outside the groups); the update timer has its own group.
+        groups = {key: MutuallyExclusiveCallbackGroup() for key in self.model.controllers}
+        self.servers = {key: self._action_server(key, groups[key]) for key in self.model.controllers}
         self.subscriptions = [
             node.create_subscription(JointTrajectory, trajectory_topic(self.platform, key),
-                                     functools.partial(self.on_trajectory, key), 10, callback_group=actions)
+                                     functools.partial(self.on_trajectory, key), 10, callback_group=groups[key])
             for key in self.model.controllers]
         self.subscriptions.append(node.create_subscription(Twist, base_topic(self.platform), self.on_twist, 10,
-                                                           callback_group=actions))
+                                                           callback_group=MutuallyExclusiveCallbackGroup()))
         if settings.driver == NAOQI_DRIVER:
             self.subscriptions.append(node.create_subscription(JointAnglesWithSpeed, JOINT_ANGLES_TOPIC,
-                                                               self.on_joint_angles, 10, callback_group=actions))
+                                                               self.on_joint_angles, 10,
+                                                               callback_group=MutuallyExclusiveCallbackGroup()))
         self.timer = node.create_timer(1.0 / UPDATE_RATE, self.on_tick,
                                        callback_group=MutuallyExclusiveCallbackGroup())
         self.logger.info("platform {}, namespace {}, controllers {}, base {} ({}); control loop {:g} Hz, velocity "
