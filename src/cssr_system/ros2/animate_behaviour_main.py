@@ -29,7 +29,8 @@ from cssr_system.ros2.animate_behaviour_node import AnimateBehaviourNode
 from cssr_system.ros2.program import on_signals
 
 ALIVE_CHECK_PERIOD = 1.0  # s between checks that the supervisor still runs (a signal wakes the wait at once)
-TEARDOWN_TIME = 0.2  # s for the stop's last messages to leave before the node is destroyed
+HANDOVER_TIMEOUT = 0.3  # s at most for the executor's thread to run the stop's work handed over to it
+SEND_GRACE = 0.1  # s for the stop's last messages, written, to leave the process before it ends
 
 
 def console_to(logger):
@@ -83,6 +84,16 @@ def run(wiring: AnimateBehaviourNode, stop: threading.Event, reasons: List[str])
     return 0
 
 
+def let_the_stop_leave(wiring: AnimateBehaviourNode) -> None:
+    """Returns once the executor's thread has run the work handed over so far (the cancels, return goals and zero
+    Twist: on a busy machine that can take longer than any fixed wait) and its messages have had SEND_GRACE to leave;
+    after HANDOVER_TIMEOUT + SEND_GRACE at most."""
+    handed_over = threading.Event()
+    wiring.executor_thread.run(handed_over.set)  # runs after the work handed over before it
+    handed_over.wait(HANDOVER_TIMEOUT)
+    time.sleep(SEND_GRACE)
+
+
 def main(argv: Optional[List[str]] = None) -> int:
     set_up_process()  # before any thread starts: one malloc arena, a short switch interval
     rclpy.init(args=sys.argv if argv is None else argv, signal_handler_options=SignalHandlerOptions.NO)
@@ -119,7 +130,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         wiring.executor_thread.run(wiring.services.withdraw)  # after the stop, which went to the executor first
     wiring.log.write(contract.NODE_STOPPED, reason=reason)
     wiring.log.close()
-    time.sleep(TEARDOWN_TIME)  # the cancels, return goals and zero Twist are handed over: let them leave
+    let_the_stop_leave(wiring)
     sys.stdout.flush()
     sys.stderr.flush()
     os._exit(status)  # rclpy's teardown of a spinning executor is not needed: the robot is stopped
