@@ -4,6 +4,7 @@ import json
 import os
 import subprocess
 import sys
+import threading
 import time
 
 import pytest
@@ -11,6 +12,7 @@ import pytest
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.event_log import EventLog, format_log_line, format_timestamp
 from cssr_system.soak import figures, report, run, schedule
+from cssr_system.soak.goal_starts import GoalStarts
 from cssr_system.soak.run import LogTail, SoakRun, count_tracebacks
 
 HOUR = 3600.0
@@ -122,8 +124,30 @@ def test_the_warm_up_is_not_judged():
 def test_an_abort_of_the_gesture_part_right_after_a_gesture_or_anything_after_a_restart_is_the_churn_s(tmp_path):
     run = SoakRun(FakeDriver(tmp_path), [], 1.0, 0.0, progress=lambda line: None)
     run._gestures, run._restarts = [100.0], [[300.0, 303.0]]
-    assert run.provoked(100.5, "RArm") and not run.provoked(100.5, "LArm") and not run.provoked(103.0, "RArm")
+    assert run.provoked(100.5, "RArm") and not run.provoked(100.5, "LArm") and not run.provoked(105.0, "RArm")
     assert run.provoked(310.0, "Leg") and not run.provoked(330.0, "Leg")
+
+
+def test_a_due_gesture_leaves_once_a_goal_not_running_before_starts_on_the_arm():
+    starts, sent = GoalStarts(), threading.Event()
+    starts.status_list(["node-1"])
+    thread = starts.after_next_start(sent.set, timeout=5.0)
+    starts.status_list(["node-1"])  # the same goal, listed again: no start
+    starts.status_list([])  # it ended
+    assert not sent.wait(0.2)
+    started = time.monotonic()
+    starts.status_list(["node-2"])
+    assert sent.wait(1.0) and time.monotonic() - started < 1.0
+    thread.join(1.0)
+
+
+def test_a_due_gesture_leaves_after_its_wait_when_no_goal_starts():
+    starts, sent = GoalStarts(), threading.Event()
+    starts.status_list(["node-1"])
+    started = time.monotonic()
+    starts.after_next_start(sent.set, timeout=0.3)
+    assert sent.wait(2.0) and time.monotonic() - started >= 0.3
+    assert not starts.wait_for_start(0.05), "no goal started"
 
 
 def test_the_log_is_read_once_across_a_rotation(tmp_path):

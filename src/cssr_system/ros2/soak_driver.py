@@ -10,6 +10,7 @@ import sys
 import threading
 
 import rclpy
+from action_msgs.msg import GoalStatus, GoalStatusArray
 from control_msgs.action import FollowJointTrajectory
 from geometry_msgs.msg import Twist
 from cssr_system_interfaces.action import Animate
@@ -19,6 +20,7 @@ from rcl_interfaces.srv import SetParameters
 from rclpy.action import ActionClient
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
+from rclpy.qos import qos_profile_action_status_default
 from rclpy.signals import SignalHandlerOptions
 
 from cssr_system.animate_behaviour import contract
@@ -27,7 +29,9 @@ from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.demo.gesture import GESTURE_PART
 from cssr_system.ros2.gesture_player import gesture_goal
 from cssr_system.ros2.program import call
+from cssr_system.ros2.rclpy_compat import ACTION_STATUS
 from cssr_system.ros2.trajectory_client import STATE_NAMES
+from cssr_system.soak.goal_starts import GoalStarts
 from cssr_system.soak.processes import (BUSY, PLATFORM, SIMULATOR, Program, arguments, base_remapping, heap_file,
                                         node_environment, robot_topics, soak, wait_until)
 
@@ -67,7 +71,11 @@ class Ros2Driver:
         self._parameters = node.create_client(SetParameters, NODE + "/set_parameters")
         self._animate = ActionClient(node, Animate, NODE + "/" + contract.ANIMATE_ACTION)
         topics = robot_topics()
-        self._gesture = ActionClient(node, FollowJointTrajectory, node.resolve_topic_name(topics[GESTURE_PART]))
+        arm = node.resolve_topic_name(topics[GESTURE_PART])
+        self._gesture = ActionClient(node, FollowJointTrajectory, arm)
+        self._arm_starts = GoalStarts()
+        node.create_subscription(GoalStatusArray, arm + ACTION_STATUS, self._arm_status,
+                                 qos_profile_action_status_default)
         self._base = node.resolve_topic_name(topics[WHEELS_KEY])
         self._listener = None
         self._ended = None
@@ -124,6 +132,10 @@ class Ros2Driver:
         if handle is not None:
             handle.cancel_goal_async()
 
+    def _arm_status(self, message: GoalStatusArray) -> None:
+        self._arm_starts.status_list(bytes(status.goal_info.goal_id.uuid).hex() for status in message.status_list
+                                     if status.status == GoalStatus.STATUS_EXECUTING)
+
     def play_gesture(self, goal: str) -> None:
         def accepted(future) -> None:
             handle = future.result()
@@ -132,7 +144,12 @@ class Ros2Driver:
                 return
             handle.get_result_async().add_done_callback(
                 lambda result: self._ended(goal, STATE_NAMES.get(result.result().status, "?"), ""))
-        self._gesture.send_goal_async(gesture_goal()).add_done_callback(accepted)
+
+        def send() -> None:
+            self._gesture.send_goal_async(gesture_goal()).add_done_callback(accepted)
+        # Sent from the executor's thread: rclpy's action client registers a request only after sending it, so an
+        # answer the executor takes first would be lost (ros2/rclpy#1123).
+        self._arm_starts.after_next_start(lambda: self.ros.executor.create_task(send))
 
     def restart_controllers(self) -> None:
         self.simulator.stop()

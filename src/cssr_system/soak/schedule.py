@@ -4,7 +4,8 @@ every step at its time from the start, drawn from a seeded random generator, so 
 - a live setting every 10 s, in turn intensity, tempo, style and the parts switches;
 - in every disabled spell an animate goal: with a duration (it succeeds), until cancelled (cancelled after 4 s) or
   replaced after 3 s by one with a duration (the first ends "replaced", the second succeeds);
-- another node's gesture on the right arm every minute, 5 s after a live setting (it succeeds: the node yields);
+- another node's gesture on the right arm every minute, 5 s after a live setting (it succeeds: the node yields); the
+  drivers send it just after a goal has started on the arm (cssr_system.soak.goal_starts);
 - the simulated Pepper restarted every 10 minutes (its controllers leave and come back), with no animate goal or
   gesture within 15 s of it, so that every one of them has one expected end;
 - the base's listener gone for 30 s every 10 minutes, on its own, half-way between two restarts.
