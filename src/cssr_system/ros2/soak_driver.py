@@ -110,7 +110,10 @@ class Ros2Driver:
     def send_animate(self, goal: str, detail: dict) -> None:
         message = Animate.Goal(parts=list(detail["parts"]), intensity=float(detail["intensity"]),
                                duration=float(detail["duration"]))
-        self._animate.send_goal_async(message).add_done_callback(lambda future: self._accepted(goal, future))
+
+        def send() -> None:
+            self._animate.send_goal_async(message).add_done_callback(lambda future: self._accepted(goal, future))
+        self._on_executor(send)
 
     def _accepted(self, goal: str, future) -> None:
         handle = future.result()
@@ -130,7 +133,7 @@ class Ros2Driver:
         with self._lock:
             handle = self._goals.get(goal)
         if handle is not None:
-            handle.cancel_goal_async()
+            self._on_executor(handle.cancel_goal_async)
 
     def _arm_status(self, message: GoalStatusArray) -> None:
         self._arm_starts.status_list(bytes(status.goal_info.goal_id.uuid).hex() for status in message.status_list
@@ -147,9 +150,12 @@ class Ros2Driver:
 
         def send() -> None:
             self._gesture.send_goal_async(gesture_goal()).add_done_callback(accepted)
-        # Sent from the executor's thread: rclpy's action client registers a request only after sending it, so an
-        # answer the executor takes first would be lost (ros2/rclpy#1123).
-        self._arm_starts.after_next_start(lambda: self.ros.executor.create_task(send))
+        self._arm_starts.after_next_start(lambda: self._on_executor(send))
+
+    def _on_executor(self, work) -> None:
+        """Runs `work` (a goal or cancel to send) on the executor's thread: rclpy's action client registers a request
+        only after sending it, so an answer the executor takes first would be lost (ros2/rclpy#1123)."""
+        self.ros.executor.create_task(work)
 
     def restart_controllers(self) -> None:
         self.simulator.stop()
