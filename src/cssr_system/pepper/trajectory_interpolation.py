@@ -122,6 +122,46 @@ def _optional_vector(values, size: int, what: str) -> Optional[numpy.ndarray]:
     return vector
 
 
+def _point_states(points: Sequence[TrajectoryPoint], joints: int) -> list:
+    """(time from start, positions, velocities or None, accelerations or None) of each point, as vectors; raises
+    TrajectoryError for the first point the controller would reject."""
+    times = [float(point.time) for point in points]
+    fields = [[point.positions for point in points], [point.velocities for point in points],
+              [point.accelerations for point in points]]
+    if all(later > earlier for earlier, later in zip(times, times[1:])):
+        rows = [_uniform_rows(values, joints) for values in fields]
+        if rows[0] is not None and all(row is not None or not any(map(_carried, values))
+                                       for row, values in zip(rows[1:], fields[1:])):
+            # Every point alike (as a planner sends them): each field converted at once, not point by point.
+            return list(zip(times, rows[0], *(row if row is not None else [None] * len(times) for row in rows[1:])))
+    return [_checked_point_state(index, point, joints, times[index - 1] if index else None)
+            for index, point in enumerate(points)]
+
+
+def _carried(values) -> bool:
+    return values is not None and len(values) > 0
+
+
+def _uniform_rows(values, joints: int) -> Optional[list]:
+    """The float rows of `values` (one sequence a point) when every point has `joints` of them, else None."""
+    if not values or joints == 0 or not all(row is not None and len(row) == joints for row in values):
+        return None
+    return list(numpy.array(values, dtype=float).reshape(len(values), joints))
+
+
+def _checked_point_state(index: int, point: TrajectoryPoint, joints: int, previous_time: Optional[float]) -> tuple:
+    time = float(point.time)
+    if previous_time is not None and not time > previous_time:
+        raise TrajectoryError("point {}: time_from_start {} is not after the previous point's {}"
+                              .format(index, time, previous_time))
+    positions = _optional_vector(point.positions, joints, "point {} positions".format(index))
+    if positions is None:
+        raise TrajectoryError("point {} has no positions".format(index))
+    velocities = _optional_vector(point.velocities, joints, "point {} velocities".format(index))
+    accelerations = _optional_vector(point.accelerations, joints, "point {} accelerations".format(index))
+    return time, positions, velocities, accelerations
+
+
 class JointTrajectorySpline:
     """The motion joint_trajectory_controller commands for one goal, for every joint of the goal.
 
@@ -143,22 +183,9 @@ class JointTrajectorySpline:
         self.start_positions = p0
         self.joint_count = joints
 
-        previous_time = None
-        states = []  # (absolute time, positions, velocities or None, accelerations or None)
-        for index, point in enumerate(points):
-            time = float(point.time)
-            if previous_time is not None and not time > previous_time:
-                raise TrajectoryError("point {}: time_from_start {} is not after the previous point's {}"
-                                      .format(index, time, previous_time))
-            previous_time = time
-            positions = _optional_vector(point.positions, joints, "point {} positions".format(index))
-            if positions is None:
-                raise TrajectoryError("point {} has no positions".format(index))
-            velocities = _optional_vector(point.velocities, joints, "point {} velocities".format(index))
-            accelerations = _optional_vector(point.accelerations, joints,
-                                             "point {} accelerations".format(index))
-            if time > 0.0:
-                states.append((self.start_time + time, positions, velocities, accelerations))
+        # (absolute time, positions, velocities or None, accelerations or None) of each point after the start
+        states = [(self.start_time + state[0],) + state[1:] for state in _point_states(points, joints)
+                  if state[0] > 0.0]
         if points and not states:
             raise TrajectoryError("every point occurs at or before the start of the goal")
 
