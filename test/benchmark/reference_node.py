@@ -2,11 +2,11 @@
 """The benchmark's yardstick on ROS 1: a minimal rospy node with animateBehaviour's interface and nothing else. It
 serves `setActivation` and `set_enabled`, holds one action client per controller of the platform's topic file, and
 while enabled sends each part goals planned as the node plans them, back to back, and turns the base as the node does
-(reference_motion.py); it cancels them on `disabled`, and exits on SIGINT or SIGTERM after cancelling. It serves an
-animate action that refuses every goal (its status as often as the node's), and subscribes to what a node that yields
-to other nodes must receive, as the node does (each controller's status and command topics, the base topic, the
-JointAngles topic; their messages are dropped), besides its action clients' topics (not their feedback, as the node):
-no /joint_states.
+(reference_motion.py); on `disabled`, and on SIGINT or SIGTERM before it exits, it sends each part back to its centre
+as the node does. It serves an animate action that refuses every goal (its status as often as the node's), and
+subscribes to what a node that yields to other nodes must receive, as the node does (each controller's status and
+command topics, the base topic, the JointAngles topic; their messages are dropped), besides its action clients' topics
+(not their feedback, as the node): no /joint_states.
 Measured with the same code as the node (`benchmark.py`), its figures show what rospy itself costs on the machine at
 hand.
 
@@ -71,22 +71,17 @@ def main() -> int:
                if key in PARTS}
     for client in clients.values():  # as the node: it has no use for the controllers' feedback
         client.feedback_sub.unregister()
-    handles = {}
+    handles = {}  # part -> its last goal's handle: actionlib drops the goals of handles no longer kept
 
     def send(key, joints, timed):
         handles[key] = clients[key].send_goal(goal_message(joints, timed))
-
-    def cancel():
-        for goal_handle in handles.values():
-            goal_handle.cancel()
-        handles.clear()
     wheels = rospy.Publisher(topics[WHEELS_KEY], Twist, queue_size=10) if WHEELS_KEY in topics else None
 
     def turn(angular_z):
         twist = Twist()
         twist.angular.z = angular_z
         wheels.publish(twist)
-    motion = ReferenceMotion(configuration, topics, send, cancel, turn)
+    motion = ReferenceMotion(configuration, topics, send, turn)
 
     def activate(enabled: bool) -> None:
         if enabled:
@@ -112,7 +107,7 @@ def main() -> int:
     del kept
     motion.disable()
     motion.close()
-    time.sleep(0.05)  # the cancels leave through rospy's publisher queues
+    time.sleep(0.05)  # the return goals leave through rospy's publisher queues
     rospy.signal_shutdown("signal")
     return 0
 

@@ -2,11 +2,11 @@
 """The benchmark's yardstick on ROS 2: a minimal rclpy node with animateBehaviour's interface and nothing else, the twin
 of reference_node.py. It serves `setActivation` and `set_enabled`, holds one FollowJointTrajectory action client per
 controller of the platform's topic file, and while enabled sends each part goals planned as the node plans them, back
-to back, and turns the base as the node does (reference_motion.py); it cancels them on `disabled`, and exits on
-SIGINT or SIGTERM after cancelling. It serves an animate action that refuses every goal, and subscribes to what a
-node that yields to other nodes must receive, as the node does (each controller's status and trajectory topics, the
-base topic, the JointAngles topic; their messages are dropped), besides its action clients' topics: no
-/joint_states. One executor thread serves it, as one serves the node.
+to back, and turns the base as the node does (reference_motion.py); on `disabled`, and on SIGINT or SIGTERM before it
+exits, it sends each part back to its centre as the node does. It serves an animate action that refuses every goal,
+and subscribes to what a node that yields to other nodes must receive, as the node does (each controller's status and
+trajectory topics, the base topic, the JointAngles topic; their messages are dropped), besides its action clients'
+topics: no /joint_states. One executor thread serves it, as one serves the node.
 
   reference_node_ros2.py --ros-args -p platform:=robot [-p gestureDuration:=0.5 -p numPoints:=10 ...]
 """
@@ -48,11 +48,9 @@ class ReferenceNode:
         configuration, topics = configuration_of(given.get("platform", "robot"), settings)
         self.clients = {key: ActionClient(node, FollowJointTrajectory, node.resolve_topic_name(name))
                         for key, name in topics.items() if key in PARTS}
-        self._lock = threading.Lock()
-        self._sent = {}  # part -> the future of its last goal's acceptance
         self._wheels = (node.create_publisher(Twist, node.resolve_topic_name(topics[WHEELS_KEY]), 10)
                         if WHEELS_KEY in topics else None)
-        self.motion = ReferenceMotion(configuration, topics, self._send, self._cancel, self._turn)
+        self.motion = ReferenceMotion(configuration, topics, self._send, self._turn)
         node.create_service(SetActivation, "~/" + contract.SET_ACTIVATION, self._on_set_activation)
         node.create_service(SetBool, "~/" + contract.SET_ENABLED, self._on_set_enabled)
         self._animate = ActionServer(node, Animate, "~/" + contract.ANIMATE_ACTION, lambda handle: Animate.Result(),
@@ -74,28 +72,12 @@ class ReferenceNode:
                                  lambda message: None, 10)
 
     def _send(self, key, joints, timed) -> None:
-        with self._lock:
-            self._sent[key] = self.clients[key].send_goal_async(goal_message(joints, timed))
+        self.clients[key].send_goal_async(goal_message(joints, timed))
 
     def _turn(self, angular_z: float) -> None:
         twist = Twist()
         twist.angular.z = angular_z
         self._wheels.publish(twist)
-
-    def _cancel(self) -> None:
-        with self._lock:
-            sent, self._sent = list(self._sent.values()), {}
-        for future in sent:
-            if future.done():
-                self._cancel_accepted(future)
-            else:  # a goal not accepted yet is cancelled once it is
-                future.add_done_callback(self._cancel_accepted)
-
-    @staticmethod
-    def _cancel_accepted(future) -> None:
-        handle = future.result()
-        if handle is not None and handle.accepted:
-            handle.cancel_goal_async()
 
     def _activate(self, enabled: bool) -> None:
         if enabled:
@@ -130,7 +112,7 @@ def main() -> int:
     signal.sigwait(SIGNALS)
     reference.motion.disable()
     reference.motion.close()
-    time.sleep(0.05)  # the cancel requests leave
+    time.sleep(0.05)  # the return goals leave
     executor.shutdown()
     spinner.join(5.0)  # rclpy's threads end before the interpreter does
     node.destroy_node()
