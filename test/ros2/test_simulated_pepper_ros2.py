@@ -40,6 +40,7 @@ DOMAIN, SECOND_DOMAIN = claim_domain(), claim_domain()
 START_TIMEOUT = 20.0  # s; a node starts in 1-2 s, but the machine may be busy
 EXIT_TIMEOUT = 15.0
 RESULT_TIMEOUT = 10.0
+FIRST_ANSWER_TIMEOUT = 2.0  # s a client's first goal waits for its answer before it is sent again
 
 NAMESPACE = "/pepper"  # the simulator platform's
 ARM = ("RShoulderPitch", "RShoulderRoll", "RElbowYaw", "RElbowRoll", "RWristYaw")
@@ -118,6 +119,7 @@ class Peer:
         self.joint_states = []  # (arrival time, message)
         self.node.create_subscription(JointState, "/joint_states", self._store_joint_state, 50)
         self.clients = {}
+        self.answered = set()  # the controllers that have answered a goal of this peer
 
     def _store_joint_state(self, message):
         self.joint_states.append((time.monotonic(), message))
@@ -150,7 +152,15 @@ class Peer:
 
     def send(self, controller: str, goal):
         future = self.client(controller).send_goal_async(goal)
+        if controller not in self.answered:
+            # Just after discovery, a server may answer before it has found this client's reader of answers, and the
+            # answer is lost: a first goal left unanswered is sent again (if it was taken, the second replaces it).
+            answer_by = time.monotonic() + FIRST_ANSWER_TIMEOUT
+            self.spin_until(lambda: future.done() or time.monotonic() > answer_by, RESULT_TIMEOUT, "an answer")
+            if not future.done():
+                future = self.clients[controller].send_goal_async(goal)
         self.spin_until(future.done, RESULT_TIMEOUT, "the goal's acceptance")
+        self.answered.add(controller)
         return future.result()
 
     def result(self, goal_handle):
