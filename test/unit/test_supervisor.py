@@ -59,7 +59,7 @@ class FakeFeed:
 
 
 class Rig:
-    def __init__(self):
+    def __init__(self, sends_on_another_thread=False):
         self.now = 50.0
         self.measured = {}  # by part: the measured positions of its joints (none: unknown)
         self.log = FakeLog()
@@ -70,7 +70,8 @@ class Rig:
         self.feed = FakeFeed()
         self.supervisor = Supervisor(lambda: self.now, self.log, self.make_part, self.make_base,
                                      lambda *status: self.statuses.append(status), self.feed,
-                                     self.report_error, self.action, self.shown.append)
+                                     self.report_error, self.action, self.shown.append,
+                                     sends_on_another_thread=sends_on_another_thread)
         self.supervisor.config = CONFIG
         for key, action in TOPICS.items():
             self.supervisor.stream_for(key, action)
@@ -124,15 +125,20 @@ def test_the_watcher_watches_the_base_and_its_listener_reaches_it():
     assert base.state.value == "animating" and len(rig.turns) == 1
 
 
-def test_every_first_goal_is_planned_before_the_first_one_leaves():
-    rig = Rig()
+@pytest.mark.parametrize("sends_on_another_thread, expected", [
+    (False, [("plan", "RArm"), ("plan", "Leg"), ("send", "RArm"), ("send", "Leg")]),  # ROS 1: sent from this thread
+    (True, [("plan", "RArm"), ("send", "RArm"), ("plan", "Leg"), ("send", "Leg")]),  # ROS 2: handed to the executor
+])
+def test_every_first_goal_is_planned_before_the_first_leaves_unless_another_thread_sends_them(
+        sends_on_another_thread, expected):
+    rig = Rig(sends_on_another_thread)
     calls = []
     for part, client in rig.clients.items():
         client.goal = lambda joints, timed, part=part, build=client.goal: calls.append(("plan", part)) or \
             build(joints, timed)
         client.send = lambda goal, done, part=part, send=client.send: calls.append(("send", part)) or send(goal, done)
     rig.post(Enable("file", CONFIG, TOPICS, threading.Event()))
-    assert calls == [("plan", "RArm"), ("plan", "Leg"), ("send", "RArm"), ("send", "Leg")]
+    assert calls == expected
 
 
 def test_a_live_change_while_enabled_splices_new_goals_and_is_logged_with_who_asked():

@@ -57,8 +57,11 @@ class Supervisor:
     def __init__(self, clock: Callable[[], float], log, make_part: Callable[[str, str], PartStream],
                  make_base: Callable[[str], BaseStream], publish_status: Callable[..., None], feed,
                  report_error: Callable[[str, Exception], None], action=None,
-                 sync_settings: Callable[[Configuration], None] = lambda config: None) -> None:
+                 sync_settings: Callable[[Configuration], None] = lambda config: None,
+                 sends_on_another_thread: bool = False) -> None:
         self.events: "queue.Queue" = queue.Queue()
+        # True: a client's send only hands the goal over to a thread that sends it (ROS 2's executor thread).
+        self._sends_on_another_thread = sends_on_another_thread
         self.clock = clock
         self.log = log
         self._make_part = make_part
@@ -350,22 +353,31 @@ class Supervisor:
             if stream.active and (stream.part not in motions or stream.action != topics.get(stream.part)):
                 stream.disable(config.home_on_disable)
         style = MotionStyle(config, self.rng)
-        # The goals first (console lines take milliseconds each), each planned before the first one leaves, as at a
-        # disable: once a goal is on the wire, the controllers' replies come in and their threads take turns with
-        # the planning of the other parts. Planner, then plan, part by part: the breathing style draws from `rng` as it
-        # makes its planners, so a seeded run's goals stay the same.
+        # The goals first (console lines take milliseconds each). Sent from this thread, each is planned before the
+        # first one leaves, as at a disable: once a goal is on the wire, the controllers' replies come in and their
+        # threads take turns with the planning of the other parts. Handed over to a thread that sends them, each goes
+        # at once: its controller takes it on while the next part is planned. Planner, then plan, part by part: the
+        # breathing style draws from `rng` as it makes its planners, so a seeded run's goals stay the same.
         starting = []
         for key, motion in motions.items():
             stream, plan = self.stream_for(key, topics[key]), style.planner(motion)
             starting.append((stream, motion, plan, stream.plan_start(plan, config.yield_quiet_time)))
-        for stream, motion, plan, planned in starting:
-            stream.enable(motion, plan, config.yield_quiet_time, planned)
+            if self._sends_on_another_thread:
+                self._start_parts(starting, config)
+        self._start_parts(starting, config)
         wheels = self._start_base(config, topics, style)
         self.enabled = True
         self.log.write(contract.BEHAVIOUR_STARTED, behaviour=sorted(config.behaviour), platform=config.platform,
                        parts=sorted(motions), wheels=wheels, reconfigured=reconfigured)
         console.info("%s: animating %s.", NODE_NAME, ", ".join(sorted(motions) + ([WHEELS_KEY] if wheels else [])))
         self._warn_narrow_bands(config, list(motions.values()))
+
+    @staticmethod
+    def _start_parts(starting: list, config: Configuration) -> None:
+        """Sends each planned first goal of `starting` (stream, motion, plan, goal) and empties it."""
+        for stream, motion, plan, planned in starting:
+            stream.enable(motion, plan, config.yield_quiet_time, planned)
+        starting.clear()
 
     def _start_base(self, config: Configuration, topics: Dict[str, str], style: MotionStyle) -> Optional[str]:
         """Starts (or keeps) the base turning when the behaviour asks for rotation; its topic, or None."""

@@ -128,8 +128,9 @@ class AnimateBehaviourNode:
         self.feed = JointStateFeed(self.joint_states, self._switch, console.debug)
         self.status = StatusPublisher(node)
         self.action = AnimateActionServer(node, self.parameters.load, self._post, self.report_error)
+        # Goals leave from the executor's thread (TrajectoryClient): at an enable each goes as soon as it is planned.
         self.supervisor = Supervisor(self.clock, self.log, self._make_part, self._make_base, self.status.publish,
-                                     self.feed, self.report_error, self.action)
+                                     self.feed, self.report_error, self.action, sends_on_another_thread=True)
         self._watcher = ControllerWatcher(self.supervisor.controlled_streams, self._post, self.log,
                                           self.supervisor.stopped, self.report_error)
         self.watch = ForeignCommandWatch(node, self.own_goals, self._post, self.clock, self.report_error,
