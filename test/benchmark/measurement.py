@@ -23,7 +23,7 @@ import sys
 import time
 
 from report import BUSY, CPU_ANIMATING, CPU_BUSY, CPU_DISABLED, COLD_FIRST_GOAL, EXITS, RESUME, ZERO_TWIST
-from report import met_line, met_of, results_of, soak_table, table, targets, write_outputs
+from report import floor_line, met_line, met_of, results_of, soak_table, table, targets, write_outputs
 
 from cssr_system.core.joint_states import REST_DELAY
 from cssr_system.soak import processes
@@ -265,6 +265,7 @@ def run(rig, ros: int, options: argparse.Namespace, folder: str, node_python: st
     met = met_of(results, ros)
     print(table(options.platform, results, ros))
     print(met_line(met))
+    print(floor_line(results, ros))
     section = {"figures": results, "targets": {target.name: target.as_dict() for target in targets(ros)},
                "met": met, "ros": ros, "busy configuration": BUSY,
                "cycles": options.cycles, "cpu window": options.cpu_window, "exit runs": options.exit_runs,

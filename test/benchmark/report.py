@@ -189,6 +189,17 @@ def met_line(met: dict) -> str:
                                         "; not met: " + ", ".join(missed) if missed else "")
 
 
+def floor_line(results: dict, ros: int) -> str:
+    """Which timed figures (p90 targets: replies, first goals, stop) the node gives within the reference's own p90 of
+    the same run, the client library's floor on the machine at hand, in one line."""
+    compared = [target.name for target in targets(ros) if target.p90 is not None
+                and target.name in results["node"] and target.name in results["reference"]]
+    above = ["%s (%.1f, the reference %.1f)" % (name, results["node"][name]["p90"], results["reference"][name]["p90"])
+             for name in compared if results["node"][name]["p90"] > results["reference"][name]["p90"]]
+    listed = "; above: " + ", ".join(above) if above else ""
+    return "p90 at or under the reference's: %d of %d%s" % (len(compared) - len(above), len(compared), listed)
+
+
 def soak_table(result: dict) -> str:
     lines = ["soak: %g s of short goals (%d enable/disable cycles), then %d quick enable/disable cycles"
              % (result["soak seconds"], result["soak cycles"], result["growth cycles"]),
@@ -229,6 +240,9 @@ def section_markdown(document: dict, ros: int) -> str:
         cells = ["%s%s | %s" % (row[1], "" if row[2] == "-" else "; ref %s" % row[2], row[4])
                  for row in (rows[platform][index] for platform in platforms)]
         lines.append("| %s | %s | %s |" % (name, target_cell, " | ".join(cells)))
+    lines.append("")
+    lines += ["- %s interface: %s." % (platform, floor_line(document[platform]["figures"], ros))
+              for platform in platforms]
     for platform in platforms:
         if "soak" in document[platform]:
             lines += ["", "Growth, %s interface:" % platform, "", "```", soak_table(document[platform]["soak"]), "```"]

@@ -26,6 +26,7 @@ def check_table(stdout: str, ros: int) -> None:
         assert len(rows) == 1, target.name
         if target.name in ALWAYS_MEASURED:
             assert rows[0].rstrip().endswith(("yes", "NO", "-", ")")), rows[0]
+    assert any(line.startswith("p90 at or under the reference's: ") for line in lines)
 
 
 def check_json(json_file: str, platform: str, ros: int) -> dict:
@@ -57,6 +58,7 @@ def check_markdown(markdown_file: str, section: dict, platform: str, ros: int) -
     for target in targets(ros):
         rows = [line for line in own.splitlines() if line.startswith("| %s " % target.name)]
         assert len(rows) == 1 and rows[0].count("|") == 5, (target.name, rows)
+    assert "- %s interface: p90 at or under the reference's: " % platform in own
     return written
 
 
