@@ -71,7 +71,8 @@ def main() -> int:
                if key in PARTS}
     for client in clients.values():  # as the node: it has no use for the controllers' feedback
         client.feedback_sub.unregister()
-    handles = {}  # part -> its last goal's handle: actionlib drops the goals of handles no longer kept
+    handles = {}  # part -> its last goal's handle, kept as the node keeps its goals': actionlib follows a goal's
+    # status only while its handle lives
 
     def send(key, joints, timed):
         handles[key] = clients[key].send_goal(goal_message(joints, timed))
