@@ -223,9 +223,12 @@ class Rig:
         with self._lock:
             self._foreign.add(goal_id)
         ended = threading.Event()
-        accepted = self._arm.send_goal_async(goal, goal_uuid=UUID(uuid=list(goal_id)))
-        accepted.add_done_callback(lambda future: future.result().get_result_async().add_done_callback(
-            lambda _: ended.set()))
+
+        def send() -> None:  # on the executor's thread: rclpy's action client is not thread-safe (ros2/rclpy#1123)
+            accepted = self._arm.send_goal_async(goal, goal_uuid=UUID(uuid=list(goal_id)))
+            accepted.add_done_callback(lambda future: future.result().get_result_async().add_done_callback(
+                lambda _: ended.set()))
+        self.node.executor.create_task(send)
         return time.monotonic() if ended.wait(seconds + 3.0) else None
 
 

@@ -46,3 +46,12 @@ def fail_on_error(where: str, error: Exception) -> None:
     """An ExecutorThread's report of an error in the work handed to it: in a test, the error itself, which ends the
     executor (the tests check that it still runs)."""
     raise error
+
+
+def on_executor(node, request, timeout: float = 5.0):
+    """The future of an action client's request (`request()`: a send_goal_async, get_result_async or cancel_goal_async
+    call) made on the thread that spins `node`. rclpy's action client records a request only after sending it, so an
+    answer that the spinning thread takes first would be dropped and the future never done (ros2/rclpy#1123)."""
+    task = node.executor.create_task(request)
+    assert wait_until(task.done, timeout), "the executor did not run the request"
+    return task.result()

@@ -42,7 +42,7 @@ from cssr_system.pepper.joint_table import PARTS  # noqa: E402
 from cssr_system.ros2.animate_action import RESULT_TIMEOUT  # noqa: E402
 
 from domains import claim_domain  # noqa: E402
-from processes import start_program, stop_program as stop, wait_until  # noqa: E402
+from processes import on_executor, start_program, stop_program as stop, wait_until  # noqa: E402
 
 # The trajectory run's domain, the joint-angle run's and the one-off runs': the first two last as long as this module.
 DOMAIN, JOINT_ANGLES_DOMAIN, ONE_OFF_DOMAIN = claim_domain(), claim_domain(), claim_domain()
@@ -235,14 +235,14 @@ def test_another_clients_goal_is_yielded_to_and_resumed_from(trajectory_run):
                                                for status in statuses[-1].status_list), 3.0), "the node's goal runs"
     client.executor.create_task(client.node.destroy_subscription, watch)  # not from this thread while it spins
     since = time.time()
-    sent = gesture.send_goal_async(arm_gesture(1))
+    sent = on_executor(client.node, lambda: gesture.send_goal_async(arm_gesture(1)))
     assert wait_until(lambda: client.part_state("RArm") == "yielding", 2.0), "RArm yields"
     assert client.part_state("LArm") == "animating", "the other parts go on"
     assert wait_until(lambda: run.entries(contract.PART_YIELDED, since), 1.0)
     assert wait_until(lambda: client.part_state("RArm") == "animating", 4.0), "RArm resumes"
     assert wait_until(lambda: run.entries(contract.PART_RESUMED, since), 1.0)
     assert sent.done() and sent.result().accepted
-    ended = sent.result().get_result_async()
+    ended = on_executor(client.node, sent.result().get_result_async)
     assert wait_until(ended.done, 1.0) and ended.result().status == GoalStatus.STATUS_SUCCEEDED, "the gesture ran"
     (resumed,) = run.entries(contract.PART_RESUMED, since)
     assert resumed.fields["part"] == "RArm" and resumed.fields["seconds"] >= 1.0
@@ -280,9 +280,9 @@ def test_a_gesture_sent_as_soon_as_disabled_replies_is_not_overtaken_by_the_retu
         assert wait_until(lambda: client.part_state("RArm") == "animating", 3.0)
         time.sleep(0.5)
         assert client.activate("disabled") == contract.REPLY_SUCCESS
-        sent = gesture.send_goal_async(arm_gesture(1))
+        sent = on_executor(client.node, lambda: gesture.send_goal_async(arm_gesture(1)))
         assert wait_until(sent.done, 3.0) and sent.result().accepted
-        ended = sent.result().get_result_async()
+        ended = on_executor(client.node, sent.result().get_result_async)
         assert wait_until(ended.done, 5.0) and ended.result().status == GoalStatus.STATUS_SUCCEEDED, \
             "the gesture ran to its end"
         homes = [entry.fields for entry in run.entries(contract.GOAL_FINISHED, since)
@@ -390,13 +390,13 @@ class AnimateClient:
         self.feedback = []
 
     def send(self, goal: Animate.Goal):
-        future = self.action.send_goal_async(goal, feedback_callback=self.feedback.append)
+        future = on_executor(self.node,
+                             lambda: self.action.send_goal_async(goal, feedback_callback=self.feedback.append))
         assert wait_until(future.done, 5.0), "no answer to the goal"
         return future.result()
 
-    @staticmethod
-    def result(handle, timeout: float = 10.0):
-        future = handle.get_result_async()
+    def result(self, handle, timeout: float = 10.0):
+        future = on_executor(self.node, handle.get_result_async)
         assert wait_until(future.done, timeout), "no result"
         return future.result()
 
@@ -435,7 +435,7 @@ def test_a_new_goal_replaces_the_last_and_a_cancel_stops_the_robot(trajectory_ru
     assert sorted(client.status.moving_parts) == ["arms", "leg"]
     time.sleep(1.5)
     assert client.part_state("RArm") == "animating", "the robot did not stop at the switch"
-    second.cancel_goal_async()
+    on_executor(client.node, second.cancel_goal_async)
     cancelled = animate.result(second)
     assert (cancelled.status, cancelled.result.reason) == (GoalStatus.STATUS_CANCELED, "cancelled")
     assert wait_until(lambda: not client.status.enabled, 1.0)
@@ -474,6 +474,6 @@ def test_an_ended_animate_goal_leaves_the_actions_status_after_its_result_timeou
     last = animate.send(animate_goal(intensity=0.5))
     assert wait_until(lambda: len(listed) > since, 2.0), "a status since the last goal"
     assert max(listed[since:]) == 1, "a goal that ended %g s ago is still listed" % (2 * RESULT_TIMEOUT)
-    last.cancel_goal_async()
+    on_executor(client.node, last.cancel_goal_async)
     assert animate.result(last).status == GoalStatus.STATUS_CANCELED
     animate.close()

@@ -17,6 +17,7 @@ from builtin_interfaces.msg import Duration  # noqa: E402 (after the skips)
 from control_msgs.action import FollowJointTrajectory  # noqa: E402
 from rclpy.action import ActionClient  # noqa: E402
 from domains import claim_domain  # noqa: E402
+from processes import on_executor  # noqa: E402
 from test_animate_behaviour_ros2 import SIMULATOR_PARTS, Run, start, stop, wait_until  # noqa: E402
 from trajectory_msgs.msg import JointTrajectoryPoint  # noqa: E402
 
@@ -51,7 +52,7 @@ def goal_answer(client, velocities):
         goal.trajectory.joint_names = list(PARTS["RArm"].joints)
         goal.trajectory.points = [JointTrajectoryPoint(positions=list(PARTS["RArm"].centre), velocities=velocities,
                                                        time_from_start=Duration(sec=1))]
-        future = action.send_goal_async(goal)
+        future = on_executor(client.node, lambda: action.send_goal_async(goal))
         assert wait_until(future.done, 5.0), "no answer"
         return future.result().accepted
     finally:

@@ -33,7 +33,7 @@ from cssr_system.animate_behaviour.event_log import node_log_file_name, read_log
 from cssr_system.pepper.joint_table import PARTS, centre_of  # noqa: E402
 from cssr_system.recording.robot_watch import RobotWatch  # noqa: E402
 from domains import claim_domain  # noqa: E402
-from processes import start_program, stop_program, wait_until  # noqa: E402
+from processes import on_executor, start_program, stop_program, wait_until  # noqa: E402
 
 DOMAIN = claim_domain()
 NODES = {"robot1": "/robot1/animateBehaviour", "robot2": "/robot2/animateRobot2"}
@@ -158,9 +158,9 @@ def test_a_remapped_arm_yields_to_another_nodes_goal_which_succeeds(graph):
         assert graph.gesture.wait_for_server(timeout_sec=10.0)
         time.sleep(1.0)  # our goals run on the arm
         count = len(robot1.statuses)
-        sent = graph.gesture.send_goal_async(gesture_goal())
+        sent = on_executor(graph.node, lambda: graph.gesture.send_goal_async(gesture_goal()))
         assert wait_until(sent.done, 5.0) and sent.result().accepted
-        result = sent.result().get_result_async()
+        result = on_executor(graph.node, sent.result().get_result_async)
         assert wait_until(result.done, 15.0)
         assert result.result().status == GoalStatus.STATUS_SUCCEEDED
         assert "RArm" in [part for part, _ in robot1.yielding_since(count)]
