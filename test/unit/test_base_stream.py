@@ -3,6 +3,7 @@ other than ours listens to the Wheels topic, and a return turns back only what w
 import math
 
 import numpy
+import pytest
 from conftest import default_configuration
 from fakes import FakeLog
 
@@ -111,3 +112,19 @@ def test_losing_the_listener_while_returning_cancels_the_return():
     rig.watch()
     assert rig.base.state == StreamState.IDLE
     assert rig.log.events(contract.CONTROLLER_LOST) == [{"part": "Wheels", "action": MOVETO}]
+
+
+@pytest.mark.parametrize("topic", [MOVETO, VELOCITY])
+@pytest.mark.parametrize("stop_after", [0.7, 1.9, 3.3, 6.1])
+def test_the_return_lasts_as_long_as_return_duration_said(topic, stop_after):
+    """An animate goal's end starts the base back this long before it (core/session.py): it must be right, wherever
+    the base is in its turns when asked."""
+    rig = Rig(topic, listened=True)
+    rig.enable()
+    rig.run(stop_after)
+    said = rig.base.return_duration(rig.now)
+    stopped_at = rig.now
+    rig.base.stop(True, rig.now)
+    while rig.base.state != StreamState.IDLE and rig.now < stopped_at + 10.0:
+        rig.run(0.01)
+    assert rig.now - stopped_at == pytest.approx(said, abs=0.02)

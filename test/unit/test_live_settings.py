@@ -5,7 +5,8 @@ from conftest import default_configuration
 
 from cssr_system.animate_behaviour.live_settings import (changed_settings, goal_overrides, moving_parts,
                                                          setting_overrides, setting_values)
-from cssr_system.core.session import FEEDBACK_PERIOD, HOME_LEAD, LONGEST_HOMING, Session, checked_goal
+from cssr_system.core.session import (FEEDBACK_PERIOD, LONGEST_HOMING, RESULT_MARGIN, RETURN_POLL, RETURN_WINDOW,
+                                      Session, checked_goal, starts_return)
 
 
 def test_dynamic_reconfigures_names_map_onto_the_configuration_keys_and_back():
@@ -38,20 +39,41 @@ def test_an_animate_goal_becomes_overrides():
         goal_overrides(["arms", "head"], "", 1.0, 0.0)
 
 
-def test_a_session_goes_home_before_its_duration_ends_and_succeeds_once_the_parts_are_home():
+def test_a_session_plans_the_returns_in_its_last_seconds_and_succeeds_at_its_duration_once_the_parts_are_home():
     session = Session("handle", started=100.0, duration=5.0)
-    assert session.next_deadline() == pytest.approx(100.0 + FEEDBACK_PERIOD)
-    assert not session.home_due(105.0 - HOME_LEAD - 0.01)
-    assert session.home_due(105.0 - HOME_LEAD)
+    assert session.next_deadline(100.0) == pytest.approx(min(100.0 + FEEDBACK_PERIOD, 105.0 - RETURN_WINDOW))
+    session.next_feedback = 200.0  # the deadlines of the end alone
+    assert session.next_deadline(100.5) == pytest.approx(105.0 - RETURN_WINDOW), "the window opens"
+    assert not session.returns_due(105.0 - RETURN_WINDOW - 0.01)
+    assert session.returns_due(105.0 - RETURN_WINDOW)
+    assert session.next_deadline(104.0) == pytest.approx(104.0 + RETURN_POLL), "a look every poll in the window"
     session.homing = True
+    assert not session.returns_due(104.5)
+    assert session.next_deadline(104.5) == pytest.approx(105.0), "the end"
+    assert session.next_deadline(105.5) == pytest.approx(105.0 + LONGEST_HOMING), "no busy loop after the end"
+    assert not session.succeeds(104.9, parts_active=False), "not before the duration"
     assert not session.succeeds(105.0, parts_active=True)
     assert session.succeeds(105.0, parts_active=False)
     assert session.succeeds(105.0 + LONGEST_HOMING, parts_active=True), "a part that never reports home"
 
 
+def test_a_return_starts_when_the_next_look_would_be_too_late():
+    ends_at, lasts = 10.0, 1.3
+    latest = ends_at - lasts - RESULT_MARGIN
+    assert not starts_return(latest - RETURN_POLL - 0.01, lasts, ends_at)
+    assert starts_return(latest - RETURN_POLL, lasts, ends_at)
+    assert starts_return(ends_at + 1.0, lasts, ends_at), "late: at once"
+
+
+def test_a_home_session_succeeds_once_the_parts_are_back():
+    session = Session("handle", started=100.0, duration=0.0, home=True)
+    assert session.homing and not session.returns_due(100.0)
+    assert not session.succeeds(100.5, parts_active=True) and session.succeeds(100.6, parts_active=False)
+
+
 def test_a_session_without_a_duration_runs_until_cancelled_and_gives_feedback_once_a_period():
     session = Session("handle", started=0.0, duration=0.0)
-    assert not session.home_due(1.0e6) and not session.succeeds(1.0e6, parts_active=False)
+    assert not session.returns_due(1.0e6) and not session.succeeds(1.0e6, parts_active=False)
     assert not session.feedback_due(FEEDBACK_PERIOD - 0.01)
     assert session.feedback_due(FEEDBACK_PERIOD) and not session.feedback_due(FEEDBACK_PERIOD + 0.5)
     assert session.feedback_due(2 * FEEDBACK_PERIOD)

@@ -69,9 +69,10 @@ class Rig:
 
 def test_transition_table_allows_only_listed_changes():
     rig = Rig()
-    with pytest.raises(RuntimeError, match="idle -> homing"):
+    with pytest.raises(RuntimeError, match="yielding -> homing"):
+        rig.stream.transition_to(PartState.YIELDING, "allowed")
         rig.stream.transition_to(PartState.HOMING, "not allowed")
-    assert PartState.HOMING not in TRANSITIONS[PartState.IDLE]
+    assert PartState.HOMING not in TRANSITIONS[PartState.YIELDING]
 
 
 def test_enable_sends_a_goal_and_logs_the_transition():

@@ -2,6 +2,7 @@
 a fake log and a fake animate action server: the live settings and the animate action's goals. No ROS master."""
 import threading
 
+import numpy
 import pytest
 from actionlib_msgs.msg import GoalStatus
 from control_msgs.msg import FollowJointTrajectoryResult
@@ -10,11 +11,12 @@ from fakes import FakeClient, FakeJointStates, FakeLog
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.core.base_stream import BaseStream
-from cssr_system.core.events import (AnimateCancel, AnimateGoal, ControllerConnected, Disable,
+from cssr_system.core.events import (AnimateCancel, AnimateGoal, ControllerConnected, Disable, ForeignGoal,
                                      Enable, GoalDone, Reconfigure, Shutdown)
 from cssr_system.core.joint_states import FeedState
 from cssr_system.core.part_stream import PartStream
-from cssr_system.core.session import CANCELLED, DISABLED, DURATION_ELAPSED, HOME_LEAD, REPLACED
+from cssr_system.core.session import (CANCELLED, DISABLED, DURATION_ELAPSED, HOMED, REPLACED, RESULT_MARGIN,
+                                      RETURN_POLL, STOPPED)
 from cssr_system.core.supervisor import JUDGE_POLL, JUDGE_WAIT, Supervisor
 from cssr_system.pepper.joint_table import PARTS
 
@@ -38,7 +40,7 @@ class FakeActionServer:
     def stop(self, handle, animated, reason):
         self.calls.append(("stop", handle, reason))
 
-    def feedback(self, handle, elapsed, parts):
+    def feedback(self, handle, elapsed, parts, motions_completed=0):
         self.calls.append(("feedback", handle, len(parts)))
 
 
@@ -172,21 +174,50 @@ def animate(rig, handle, duration=0.0, config=CONFIG, by="/tree"):
     rig.post(AnimateGoal(handle, "config.ini", config, TOPICS, duration, by))
 
 
-def test_a_goal_with_a_duration_sends_the_parts_home_then_succeeds():
+def run_until(rig, until, step=0.01):
+    """The supervisor's thread until `until` on the fake clock, the running goals succeeding at their ends."""
+    while rig.now < until:
+        rig.now = min(until, rig.now + step)
+        rig.supervisor.step(0.0)
+        for stream in rig.supervisor.part_streams():
+            if stream._sent is not None and rig.now >= stream._sent.end_time:
+                stream._sent.handle.finish(GoalStatus.SUCCEEDED)
+                while not rig.supervisor.events.empty():
+                    rig.supervisor.step(0.0)
+
+
+def test_a_goal_with_a_duration_sends_each_part_home_as_late_as_its_return_allows_then_succeeds_on_time():
     rig = Rig()
-    animate(rig, "first", duration=5.0)
+    started = rig.now
+    # The arm's widest bands: far from its centre and fast, it needs longer to come back than the leg.
+    wide = CONFIG._replace(intensity=1.0, selected_range=1.0, arm_maximum_range=(1.0,) * 5)
+    animate(rig, "first", duration=5.0, config=wide)
     assert rig.action.calls == [("accept", "first")] and rig.supervisor.enabled
-    assert rig.shown == [CONFIG]
-    rig.now += 5.0 - HOME_LEAD - 0.01
-    rig.supervisor.step(0.0)  # nothing is due yet
-    assert rig.supervisor.enabled
-    rig.now += 0.02
-    rig.supervisor.step(0.0)
-    assert not rig.supervisor.enabled, "the parts start home before the duration ends"
-    assert ("succeed", "first", DURATION_ELAPSED) not in rig.action.calls, "not before they are home"
-    rig.finish_running_goals()
+    assert rig.shown == [wide]
+    run_until(rig, started + 5.0 - 4.0 - 0.01)
+    assert all(stream.sent_purpose == contract.PURPOSE_ANIMATE for stream in rig.supervisor.part_streams()), \
+        "no return is due yet"
+    returns = {}  # part: (when its return left, how long it lasts)
+    while rig.now < started + 5.0 and len(returns) < len(TOPICS):
+        run_until(rig, rig.now + 0.01)
+        for part in TOPICS:
+            stream = rig.supervisor.parts[TOPICS[part]]
+            if part not in returns and stream.state.value == "homing":
+                returns[part] = (rig.now, stream._sent.duration)
+    assert sorted(returns) == sorted(TOPICS)
+    for part, (left, lasts) in returns.items():
+        assert started + 5.0 - RETURN_POLL - RESULT_MARGIN - 0.02 <= left + lasts <= started + 5.0 - RESULT_MARGIN, \
+            "%s's return ends just before the duration does" % part
+    assert returns["RArm"][1] > returns["Leg"][1] and returns["RArm"][0] < returns["Leg"][0], \
+        "the arm, farther and faster, starts back earlier"
+    assert not rig.supervisor.enabled
+    run_until(rig, started + 5.0 - 0.02)
+    assert ("succeed", "first", DURATION_ELAPSED) not in rig.action.calls, "not before the duration"
+    run_until(rig, started + 5.0 + 0.02)
     assert rig.action.calls[-1] == ("succeed", "first", DURATION_ELAPSED)
-    assert [fields["outcome"] for fields in rig.log.events(contract.ANIMATE_GOAL)] == ["accepted", "succeeded"]
+    assert all(stream.state.value == "idle" for stream in rig.supervisor.part_streams())
+    ends = rig.log.events(contract.ANIMATE_GOAL)
+    assert [fields["outcome"] for fields in ends] == ["accepted", "succeeded"] and ends[-1]["by"] == "/tree"
 
 
 @pytest.mark.parametrize("ending, reason", [("second goal", REPLACED), ("cancel", CANCELLED),
@@ -295,3 +326,36 @@ def test_an_end_waiting_for_a_measurement_at_shutdown_is_logged_as_it_ended():
     rig.post(Shutdown("signal", threading.Event()))
     states = {(fields["part"], fields["state"]) for fields in rig.log.events(contract.GOAL_FINISHED)}
     assert ("RArm", "ABORTED") in states
+
+
+def test_a_home_goal_brings_every_part_back_even_those_another_node_left_away_from_its_centre():
+    rig = Rig()
+    rig.measured["RArm"] = numpy.array(PARTS["RArm"].centre) + 0.2  # where a gesture left it
+    rig.measured["Leg"] = numpy.array(PARTS["Leg"].centre)
+    rig.post(AnimateGoal("home goal", "config.ini", CONFIG, TOPICS, 0.0, "/tree", home=True))
+    streams = {stream.part: stream for stream in rig.supervisor.part_streams()}
+    assert all(stream.state.value == "homing" and stream.sent_purpose == contract.PURPOSE_HOME
+               for stream in streams.values())
+    assert not rig.supervisor.enabled and ("succeed", "home goal", HOMED) not in rig.action.calls
+    run_until(rig, rig.now + 2.0)
+    assert rig.action.calls[-1] == ("succeed", "home goal", HOMED)
+    assert rig.log.events(contract.ANIMATE_GOAL)[0]["home"] is True
+
+
+def test_a_home_goal_leaves_a_part_alone_while_another_node_moves_it():
+    rig = Rig()
+    enable(rig)
+    rig.post(ForeignGoal(TOPICS["RArm"], "goal-1", "/gestureExecution", rig.now + 3.0))
+    rig.post(AnimateGoal("home goal", "config.ini", CONFIG, TOPICS, 0.0, "/tree", home=True))
+    streams = {stream.part: stream for stream in rig.supervisor.part_streams()}
+    assert streams["RArm"].state.value == "idle" and streams["Leg"].state.value == "homing"
+
+
+def test_the_stop_service_ends_the_goal_as_a_disable_does_and_the_log_names_who_asked():
+    rig = Rig()
+    animate(rig, "first")
+    rig.post(Disable(STOPPED, threading.Event(), "/animate_behavior/stop"))
+    assert ("stop", "first", STOPPED) in rig.action.calls and not rig.supervisor.enabled
+    end = rig.log.events(contract.ANIMATE_GOAL)[-1]
+    assert (end["outcome"], end["reason"], end["by"]) == ("preempted", STOPPED, "/animate_behavior/stop")
+    assert rig.log.events(contract.BEHAVIOUR_ENDED)[-1]["reason"] == STOPPED

@@ -109,6 +109,18 @@ class BaseStream(MotionStream):
         else:
             self.transition_to(IDLE, "disabled")
 
+    def return_duration(self, now: float) -> float:
+        """How long a `stop(True, now)` keeps the base busy until it is back at the heading of enable (s): a relative
+        turn under way ends first; a streamed one stops at once and brakes."""
+        if self.state != ANIMATING or self.planner is None:
+            return 0.0
+        if self._step is None:
+            return self.planner.return_time(self.planner.heading)
+        if self.kind == VELOCITY:
+            return self.planner.return_time(heading_after_interruption(self._step, self._next_sample))
+        busy = max(0.0, self._step_started + self._step.busy_time - now)
+        return busy + self.planner.return_time(self._step.target_heading)
+
     def foreign_twist(self, caller: str, twist, now: float) -> None:
         """Another node's command on the topic (a geometry_msgs/Twist): our turn stops at once (nothing of ours is
         published)."""

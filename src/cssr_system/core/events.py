@@ -14,8 +14,9 @@ class Enable(NamedTuple):
 
 
 class Disable(NamedTuple):
-    reason: str
+    reason: str  # core/session.py's DISABLED, or STOPPED (the successor's stop service)
     done: threading.Event
+    by: str = "setActivation"  # who asked
 
 
 class GoalDone(NamedTuple):
@@ -94,6 +95,8 @@ class AnimateGoal(NamedTuple):
     topics: Dict[str, str]
     duration: float  # s; 0: until cancelled
     by: str  # the caller id of the client
+    server: object = None  # the action server it came from (None: the node's own animate action)
+    home: bool = False  # every part back to its centre, then the goal succeeds
 
 
 class AnimateCancel(NamedTuple):

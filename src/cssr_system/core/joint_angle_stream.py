@@ -103,6 +103,12 @@ class JointAngleStream(PartMotionStream):
         where = dict(zip(self.joints, self._where_now(self._clock()).tolist()))
         return streaming.stop_message(where, dict(zip(self.joints, PARTS[self.name].centre)) if home else where)
 
+    def return_duration(self, planned: Optional[streaming.JointAngles]) -> float:
+        """How long the return `plan_stop` made a moment ago takes (0: none)."""
+        if planned is None:
+            return 0.0
+        return streaming.stop_duration(dict(zip(self.joints, self._where_now(self._clock()).tolist())), planned)
+
     def disable(self, home: bool, planned: Optional[streaming.JointAngles] = None) -> None:
         """Stop the stream at once, then one call (`plan_stop`, or `planned` made by it a moment ago)."""
         if self._disabled_without_sending():
@@ -114,17 +120,29 @@ class JointAngleStream(PartMotionStream):
         if call is None:
             self.transition_to(IDLE, "disabled")
             return
-        self._joint_states.moving(self.joints)
-        self.topic.send(call, now)
+        self._send_stop(now, call, where, home)
         if not home:
             self.transition_to(IDLE, "disabled; stopped where the joints are")
+            return
+        self.transition_to(HOMING, "disabled; returning to the centre")
+
+    def _send_home(self) -> None:
+        now = self._clock()
+        where = self._where_now(now)
+        self._send_stop(now, streaming.stop_message(dict(zip(self.joints, where.tolist())),
+                                                    dict(zip(self.joints, PARTS[self.name].centre))), where, True)
+
+    def _send_stop(self, now: float, call: streaming.JointAngles, where: numpy.ndarray, returns_home: bool) -> None:
+        """Sends a stop's call; one to the centres (`returns_home`) is logged as the return it is, and timed."""
+        self._joint_states.moving(self.joints)
+        self.topic.send(call, now)
+        if not returns_home:
             return
         duration = streaming.stop_duration(dict(zip(self.joints, where.tolist())), call)
         self._log_planned(PURPOSE_HOME, [0.0, duration], [where.tolist(), list(PARTS[self.name].centre)])
         if duration > HOME_MAX_DURATION:
             self._warn("%s: %s returns to its centre in %.1f s.", NODE_NAME, self.name, duration)
         self._homing_until = now + duration
-        self.transition_to(HOMING, "disabled; returning to the centre")
 
     # -- naoqi_driver and the other nodes -------------------------------------------------------------
     def controller_ready(self) -> bool:
@@ -177,6 +195,7 @@ class JointAngleStream(PartMotionStream):
         if self.state != ANIMATING:
             return
         if self._continuation_due(now):
+            self.motions_completed += 1
             self._animate("continuing the motion")
         if self._sent is None or now >= self._sent.next_send:
             self._send(now)

@@ -41,6 +41,7 @@ class MotionStream:
         self._log = log
         self._debug = debug
         self._yield_started = 0.0
+        self.motions_completed = 0  # motions of ours that played out and went on into the next (action feedback)
 
     @property
     def part(self) -> str:  # the part key (the wheels key for the base), as the watcher and the status name it
@@ -111,6 +112,17 @@ class PartMotionStream(MotionStream):
         the part (a goal that succeeds leaves the joints at its last point, a stop starts from the plan); while the
         part waits for its controller or a retry (it starts again from them) or yields, it does."""
         return not self.drives_joints
+
+    def go_home(self) -> None:
+        """A return to the centre from wherever the part is, whoever left it there (an animate goal that asks for
+        the parts at their centres): only from idle, with the controller there and no other node moving the part."""
+        if self.state == StreamState.IDLE and self.connected and self.foreign.calm(self._clock()):
+            self._send_home()
+            self.transition_to(StreamState.HOMING, "home asked")
+
+    def _send_home(self) -> None:
+        """`go_home`'s motion: one to the centre, from the measured joints."""
+        raise NotImplementedError
 
     def _disabled_without_sending(self) -> bool:
         """What a disable does alike on every part stream: nothing, where nothing of ours runs or returns home; the

@@ -51,7 +51,7 @@ END_POSITION_TOLERANCE = 0.01  # rad
 IDLE, ANIMATING, YIELDING, WAITING, HOMING = (StreamState.IDLE, StreamState.ANIMATING, StreamState.YIELDING,
                                               StreamState.WAITING, StreamState.HOMING)
 TRANSITIONS = {
-    IDLE: {ANIMATING, WAITING, YIELDING},
+    IDLE: {ANIMATING, WAITING, YIELDING, HOMING},
     ANIMATING: {ANIMATING, WAITING, YIELDING, HOMING, IDLE},
     YIELDING: {ANIMATING, WAITING, IDLE},
     WAITING: {ANIMATING, WAITING, YIELDING, HOMING, IDLE},
@@ -104,6 +104,14 @@ class PartStream(PartMotionStream):
     def plan_stop(self, home: bool) -> Optional[OutgoingGoal]:
         """The goal `disable(home)` would send, planned now without sending it (None: it sends none)."""
         return self._outgoing(PURPOSE_HOME, HomePlanner(self.part, self.motion)) if self._returns_home(home) else None
+
+    @staticmethod
+    def return_duration(planned: Optional[OutgoingGoal]) -> float:
+        """How long the return `plan_stop` planned takes, with its hold (0: none)."""
+        return planned.duration if planned is not None else 0.0
+
+    def _send_home(self) -> None:
+        self._dispatch(self._outgoing(PURPOSE_HOME, HomePlanner(self.part, self.motion)))
 
     def disable(self, home: bool, planned: Optional[OutgoingGoal] = None) -> None:
         """Stop: one return-to-centre goal when `home` (and a goal of ours moves the part), else cancel.
@@ -259,6 +267,7 @@ class PartStream(PartMotionStream):
                 self._resume(now)
             return
         if self._continuation_due(now):
+            self.motions_completed += 1
             self._animate("continuing the motion")
         if self.overdue(now):
             self._warn("%s: no result for the %s goal; sending the next one.", NODE_NAME, self.part)
@@ -303,6 +312,7 @@ class PartStream(PartMotionStream):
     def _finish_goal(self, why: str) -> None:
         """A goal of ours ended as planned: a part going home is done, an animating one goes on."""
         if self.state == ANIMATING and self.sent_purpose == PURPOSE_ANIMATE:
+            self.motions_completed += 1
             self._animate(why)  # from the measured joints, else from where the ended goal left them
             return
         purpose, self._sent = self.sent_purpose, None

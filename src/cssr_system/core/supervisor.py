@@ -24,12 +24,15 @@ from cssr_system.core.events import (AnimateCancel, AnimateGoal, ControllerConne
 from cssr_system.core.foreign_motion import GOAL, JOINT_ANGLES
 from cssr_system.core.joint_states import FeedState
 from cssr_system.core.part_stream import PartStream
-from cssr_system.core.session import CANCELLED, DISABLED, DURATION_ELAPSED, REPLACED, Session
+from cssr_system.core.motion_stream import StreamState
+from cssr_system.core.session import CANCELLED, DISABLED, DURATION_ELAPSED, HOMED, REPLACED, Session, starts_return
 from cssr_system.core.status import part_rows
 from cssr_system.motion.styles import MotionStyle
 from cssr_system.motion.waypoints import animated_parts, make_rng, narrow_bands
 from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, PARTS
 
+# A part or the base in these states is still to be stopped at the end of an animate goal's duration.
+MOVING_STATES = (StreamState.ANIMATING, StreamState.WAITING, StreamState.YIELDING)
 LONGEST_WAIT = 0.5  # s the supervisor sleeps at most while anything may be due
 # A goal's end judged from the measured joints (core/part_stream.py: an abort for the end state only) waits this long
 # at most for a current measurement, looking every JUDGE_POLL s: the feed subscribes, and its first message comes well
@@ -172,7 +175,7 @@ class Supervisor:
         now = self.clock()
         deadlines = [stream.next_deadline() for stream in self.parts.values()]
         deadlines += [base.next_deadline(now) for base in self.bases.values()]
-        deadlines += [self.session.next_deadline()] if self.session is not None else []
+        deadlines += [self.session.next_deadline(now)] if self.session is not None else []
         deadlines += [now + JUDGE_POLL] if self._judging else []
         deadlines = [deadline - now for deadline in deadlines if deadline is not None]
         if not deadlines and not self.enabled and self._feed.state == FeedState.RESTING:
@@ -222,20 +225,20 @@ class Supervisor:
     def _on_enable(self, event: Enable) -> None:
         self._enable(event.config_file, event.config, event.topics, "setActivation")
         event.done.set()
-        self._end_session(REPLACED)
+        self._end_session(REPLACED, "setActivation")
         self._sync_settings(event.config)
 
     def _on_disable(self, event: Disable) -> None:
         was_enabled = self._disable()
         event.done.set()  # the robot is told to stop: the caller's reply need not wait for the lines below
         self._report_disabled(was_enabled, event.reason)
-        self._end_session(DISABLED)
+        self._end_session(event.reason, event.by)
 
     def _on_shutdown(self, event: Shutdown) -> None:
         """Stops the robot; then every goal still running gets its final line (RUNNING_AT_EXIT): the node exits
         before their results come."""
         self._report_disabled(self._disable(), event.reason)
-        self._end_session(DISABLED)
+        self._end_session(DISABLED, event.reason)
         self._hand_over_judged_ends(self.clock(), at_exit=True)
         for stream in self.part_streams():
             stream.finish_at_exit()
@@ -251,39 +254,74 @@ class Supervisor:
 
     # -- the animate action -------------------------------------------------------------------------
     def _on_animate_goal(self, event: AnimateGoal) -> None:
-        self._end_session(REPLACED)
-        self._action.accept(event.handle)
-        self.session = Session(event.handle, self.clock(), event.duration)
-        self.log.write(contract.ANIMATE_GOAL, outcome="accepted", by=event.by, duration=event.duration)
-        self._enable(event.config_file, event.config, event.topics, event.by)
+        self._end_session(REPLACED, event.by)
+        server = event.server or self._action
+        server.accept(event.handle)
+        self.session = Session(event.handle, self.clock(), event.duration, server, event.by, event.home,
+                               self._motions_completed())
+        self.log.write(contract.ANIMATE_GOAL, outcome="accepted", by=event.by, duration=event.duration,
+                       **({"home": True} if event.home else {}))
+        if event.home:
+            self._home_every_part()
+        else:
+            self._enable(event.config_file, event.config, event.topics, event.by)
         self._sync_settings(event.config)
 
     def _on_animate_cancel(self, event: AnimateCancel) -> None:
         if self.session is None or self.session.handle != event.handle:
             return  # a goal that has ended already (replaced, say)
         self._report_disabled(self._disable(), CANCELLED)
-        self._end_session(CANCELLED)
+        self._end_session(CANCELLED, self.session.by)
 
     def _tick_session(self, now: float) -> None:
         session = self.session
-        if session.home_due(now):
+        if session.returns_due(now):
+            self._return_in_time(session, now)
+        if session.succeeds(now, any(stream.active for stream in self.parts.values())):
+            self._end_session(HOMED if session.home else DURATION_ELAPSED, session.by)
+        elif session.feedback_due(now):
+            session.server.feedback(session.handle, now - session.started,
+                                    part_rows(self.part_streams(), list(self.bases.values())),
+                                    self._motions_completed() - session.motions_before)
+
+    def _return_in_time(self, session: Session, now: float) -> None:
+        """In the last seconds of a goal with a duration, each part (and the base) starts back to its centre when
+        its own return, planned from where it is now, needs to; once all have, the node is disabled."""
+        home = self.config.home_on_disable
+        for stream in self.part_streams():
+            if stream.state in MOVING_STATES:
+                planned = stream.plan_stop(home)
+                if starts_return(now, stream.return_duration(planned), session.ends_at):
+                    stream.disable(home, planned)
+        base = self.active_base
+        if base is not None and starts_return(now, base.return_duration(now) if home else 0.0, session.ends_at):
+            base.stop(home, now)
+            self.active_base = None
+        if self.active_base is None and not any(stream.state in MOVING_STATES for stream in self.part_streams()):
             session.homing = True
             self._report_disabled(self._disable(), DURATION_ELAPSED)
-        if session.succeeds(now, any(stream.active for stream in self.parts.values())):
-            self._end_session(DURATION_ELAPSED)
-        elif session.feedback_due(now):
-            self._action.feedback(session.handle, now - session.started,
-                                  part_rows(self.part_streams(), list(self.bases.values())))
 
-    def _end_session(self, reason: str) -> None:
-        """The action's goal in force, if any, ends: SUCCEEDED when its duration elapsed, else PREEMPTED."""
+    def _home_every_part(self) -> None:
+        """A home goal: what moves returns to its centre, and every other part too, from where it is (not while
+        another node moves it)."""
+        self._report_disabled(self._disable(home=True), HOMED)
+        for stream in self.part_streams():
+            stream.go_home()
+
+    def _motions_completed(self) -> int:
+        return sum(stream.motions_completed for stream in self.part_streams())
+
+    def _end_session(self, reason: str, by: str) -> None:
+        """The action's goal in force, if any, ends: SUCCEEDED when its duration elapsed (or a home goal's parts are
+        back), else PREEMPTED; `by`: who ended it."""
         session, self.session = self.session, None
         if session is None:
             return
         animated = max(0.0, self.clock() - session.started)
-        (self._action.succeed if reason == DURATION_ELAPSED else self._action.stop)(session.handle, animated, reason)
-        self.log.write(contract.ANIMATE_GOAL, outcome="succeeded" if reason == DURATION_ELAPSED else "preempted",
-                       animated=round(animated, 3), reason=reason)
+        succeeded = reason in (DURATION_ELAPSED, HOMED)
+        (session.server.succeed if succeeded else session.server.stop)(session.handle, animated, reason)
+        self.log.write(contract.ANIMATE_GOAL, outcome="succeeded" if succeeded else "preempted",
+                       animated=round(animated, 3), reason=reason, by=by)
 
     def _on_goal_done(self, event: GoalDone) -> None:
         stream = self.parts.get(event.action)
@@ -407,11 +445,12 @@ class Supervisor:
                 console.warning("%s: %s.", NODE_NAME, line)
             self._band_warnings = warnings
 
-    def _disable(self) -> bool:
-        """Stops every part and the base; False when the node was not enabled."""
+    def _disable(self, home: Optional[bool] = None) -> bool:
+        """Stops every part and the base, returning them home as `home` says (None: as the configuration says);
+        False when the node was not enabled."""
         if not self.enabled:
             return False
-        home = self.config.home_on_disable
+        home = self.config.home_on_disable if home is None else home
         if self.active_base is not None:  # first: a streamed turn ends with one zero Twist, sent at once
             self.active_base.stop(home, self.clock())
             self.active_base = None

@@ -183,11 +183,22 @@ class BaseRotationPlanner:
         target = below[0] + draw if draw < below_length else above[0] + (draw - below_length)
         return min(bound, max(-bound, target))  # rounding must never leave the interval
 
+    def return_time(self, heading: float) -> float:
+        """How long `return_step` keeps the base busy from `heading` (s; 0: no return)."""
+        if self.peak_speed <= 0.0 or abs(heading) < RETURN_TOLERANCE:
+            return 0.0
+        if self.kind == RELATIVE:
+            return self._relative_busy_time(heading)
+        return max(2, int(math.ceil(self._shortest_motion_time(abs(heading)) / self.period - 1e-9))) * self.period
+
+    @staticmethod
+    def _relative_busy_time(angle: float) -> float:
+        return abs(angle) / BASE_MOVETO_ANGULAR_VELOCITY + BASE_MOVETO_SETTLE_TIME + RELATIVE_COMMAND_MARGIN
+
     def _step_to(self, target: float, pause: float, stretch: float) -> RotationStep:
         angle = target - self._heading
         if self.kind == RELATIVE:
-            busy_time = (abs(angle) / BASE_MOVETO_ANGULAR_VELOCITY + BASE_MOVETO_SETTLE_TIME
-                         + RELATIVE_COMMAND_MARGIN)
+            busy_time = self._relative_busy_time(angle)
             step = RotationStep(RELATIVE, angle, (), 0.0, busy_time + pause, target, busy_time)
         else:
             motion_time = self._shortest_motion_time(abs(angle)) * stretch

@@ -67,6 +67,6 @@ class AnimateActionServer:
         handle.set_canceled(AnimateResult(animated=animated, reason=reason), reason)
 
     @staticmethod
-    def feedback(handle, elapsed: float, rows) -> None:
-        """`rows`: core.status.part_rows of every stream."""
+    def feedback(handle, elapsed: float, rows, motions_completed: int = 0) -> None:
+        """`rows`: core.status.part_rows of every stream (the motions completed are not in this action's feedback)."""
         handle.publish_feedback(AnimateFeedback(elapsed=elapsed, parts=part_statuses(rows)))

@@ -108,8 +108,8 @@ class AnimateActionServer:
         self._call(lambda: self._end(handle, handle.canceled if handle.is_cancel_requested else handle.abort,
                                      animated, reason))
 
-    def feedback(self, handle, elapsed: float, rows) -> None:
-        """`rows`: core.status.part_rows of every stream."""
+    def feedback(self, handle, elapsed: float, rows, motions_completed: int = 0) -> None:
+        """`rows`: core.status.part_rows of every stream (the motions completed are not in this action's feedback)."""
         message = Animate.Feedback(elapsed=float(elapsed), parts=part_statuses(rows))
         self._call(lambda: handle.publish_feedback(message) if handle.is_active else None)
 
