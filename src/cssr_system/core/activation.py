@@ -51,6 +51,10 @@ class Activation:
         self._post(Enable(config_file, config, topics, threading.Event()))
         return True, "enabled"
 
+    def stop(self, reason: str, by: str) -> None:
+        """Stops as a `disabled` does, for `by` (another service: the successor's stop), giving `reason`."""
+        self._request(lambda done: Disable(reason, done, by))
+
     def _request(self, make_event) -> None:
         done = threading.Event()
         started = time.monotonic()

@@ -277,7 +277,7 @@ class Supervisor:
         session = self.session
         if session.returns_due(now):
             self._return_in_time(session, now)
-        if session.succeeds(now, any(stream.active for stream in self.parts.values())):
+        if session.succeeds(now, any(stream.active for stream in self.controlled_streams())):
             self._end_session(HOMED if session.home else DURATION_ELAPSED, session.by)
         elif session.feedback_due(now):
             session.server.feedback(session.handle, now - session.started,

@@ -35,6 +35,7 @@ from cssr_system.ros2.parameters import NodeParameters
 from cssr_system.ros2.rclpy_compat import subscribed_by_another_node
 from cssr_system.ros2.services import ActivationServices
 from cssr_system.ros2.status import StatusPublisher
+from cssr_system.ros2.successor_action import SuccessorActionServer
 from cssr_system.ros2.time_conversion import clock_seconds, seconds_of
 from cssr_system.ros2.trajectory_client import TrajectoryClient
 
@@ -128,6 +129,7 @@ class AnimateBehaviourNode:
         self.feed = JointStateFeed(self.joint_states, self._switch, console.debug)
         self.status = StatusPublisher(node)
         self.action = AnimateActionServer(node, self.parameters.load, self._post, self.report_error)
+        self.successor_action = SuccessorActionServer(node, self.parameters.load, self._post, self.report_error)
         # Goals leave from the executor's thread (TrajectoryClient): at an enable each goes as soon as it is planned.
         self.supervisor = Supervisor(self.clock, self.log, self._make_part, self._make_base, self.status.publish,
                                      self.feed, self.report_error, self.action, sends_on_another_thread=True)
@@ -149,9 +151,11 @@ class AnimateBehaviourNode:
         activation = Activation(self._post, self.log, self.parameters.load, lambda: self.parameters.config_file)
         self.services = ActivationServices(self.node, activation, self.log, self.executor_thread.run_pending)
         self.action.start()
-        console.info("%s: services %s and %s ready.", NODE_NAME,
+        self.successor_action.start()
+        console.info("%s: services %s and %s ready; the successor's action %s and %s too.", NODE_NAME,
                      self.node.resolve_service_name("~/" + contract.SET_ACTIVATION),
-                     self.node.resolve_service_name("~/" + contract.SET_ENABLED))
+                     self.node.resolve_service_name("~/" + contract.SET_ENABLED), self.successor_action.name,
+                     self.services.stop_service)
         self.node.create_timer(HEARTBEAT_PERIOD, lambda: console.info("%s: running.", NODE_NAME))
 
     def _post(self, event) -> None:

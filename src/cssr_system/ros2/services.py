@@ -1,5 +1,7 @@
-"""The node's two services on ROS 2 (README: "ROS 2"): `setActivation` (cssr_system_interfaces/srv/SetActivation,
-the same fields and replies as on ROS 1) and `set_enabled` (std_srvs/srv/SetBool), over core/activation.py.
+"""The node's services on ROS 2 (README: "ROS 2"): `setActivation` (cssr_system_interfaces/srv/SetActivation,
+the same fields and replies as on ROS 1) and `set_enabled` (std_srvs/srv/SetBool), over core/activation.py; and the
+successor system's `animate_behavior/stop` (std_srvs/srv/Trigger, README: "With the successor's behaviour tree"),
+which stops as a `disabled` does and answers success.
 
 A `disabled` replies once the stop's goals have left, as on ROS 1, so that a caller's next command never races
 them: the services run on the executor's thread, the one the goals leave from, so once the supervisor has handed the
@@ -7,11 +9,14 @@ stop over, the service sends what was handed over, then answers (no coroutine, n
 from typing import Callable
 
 from cssr_system_interfaces.srv import SetActivation
-from std_srvs.srv import SetBool
+from std_srvs.srv import SetBool, Trigger
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.contract import DISABLED, ENABLED, REPLY_FAILURE, REPLY_SUCCESS
 from cssr_system.core.activation import Activation
+from cssr_system.core.session import STOPPED
+
+STOP_SERVICE = "animate_behavior/stop"  # the successor's: relative, in the node's namespace
 
 
 class ActivationServices:
@@ -25,8 +30,10 @@ class ActivationServices:
             node.create_service(SetActivation, "~/" + contract.SET_ACTIVATION, self.handle_set_activation,
                                 callback_group=callback_group),
             node.create_service(SetBool, "~/" + contract.SET_ENABLED, self.handle_set_enabled,
-                                callback_group=callback_group)]
+                                callback_group=callback_group),
+            node.create_service(Trigger, STOP_SERVICE, self.handle_stop, callback_group=callback_group)]
         self._node = node
+        self.stop_service = node.resolve_service_name(STOP_SERVICE)
 
     def withdraw(self) -> None:
         """Both services go, so callers see the node gone."""
@@ -48,4 +55,11 @@ class ActivationServices:
         self._log.write(contract.ACTIVATION_REQUEST, state=state, reply=REPLY_SUCCESS if accepted else REPLY_FAILURE,
                         service="set_enabled")
         response.success, response.message = accepted, message
+        return response
+
+    def handle_stop(self, request, response):
+        self._activation.stop(STOPPED, self.stop_service)
+        self._run_pending()
+        response.success, response.message = True, "stopped"
+        self._log.write(contract.ACTIVATION_REQUEST, state=DISABLED, reply=REPLY_SUCCESS, service=self.stop_service)
         return response
