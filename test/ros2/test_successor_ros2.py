@@ -112,8 +112,7 @@ class Tree:
         return future.result()
 
     def parts_at_their_centres(self) -> bool:
-        joints = [(joint, centre) for part in ROBOT_PARTS for joint, centre in zip(PARTS[part].joints,
-                                                                                  PARTS[part].centre)]
+        joints = [pair for part in ROBOT_PARTS for pair in zip(PARTS[part].joints, PARTS[part].centre)]
         return all(abs(self.positions[joint] - centre) <= CENTRE_TOLERANCE for joint, centre in joints)
 
     def close(self) -> None:
@@ -188,7 +187,8 @@ def test_the_trees_goal_runs_beside_its_other_steps_then_its_stop_brings_every_p
     assert not tree.status.enabled
     assert wait_until(lambda: not set(tree.part_states().values()) - {"idle"}, 3.0), "every part back home"
     assert wait_until(tree.parts_at_their_centres, 2.0), tree.positions
-    ends = [entry.fields for entry in run.entries(contract.ANIMATE_GOAL, since) if entry.fields["outcome"] != "accepted"]
+    ends = [entry.fields for entry in run.entries(contract.ANIMATE_GOAL, since)
+            if entry.fields["outcome"] != "accepted"]
     assert [(fields["reason"], fields["by"]) for fields in ends] == [("stopped", "/animate_behavior/stop")]
 
 
