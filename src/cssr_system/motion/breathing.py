@@ -18,8 +18,8 @@ where needed so that its speed stays under the cap (`trajectory_timing.speed_cap
 A goal samples q, q' and q'' exactly every POINT_SPACING seconds for GOAL_BREATHS breaths; its first point is
 far enough from the part's current state (which may be anywhere after another node's gesture) for the
 controller's quintic splice to stay under the cap and to accelerate no harder than the style itself ever does
-(`BreathingMotion.peak_acceleration`): the first goal after an enable or a yield eases in from the measured pose
-instead of twitching.
+(`BreathingMotion.peak_acceleration`) where that still brings every joint into its band within EASE_IN: the first
+goal after an enable, a yield or a style switch eases in from the measured pose instead of twitching or dawdling.
 
 Every goal ends at rest (README: "Controllers: what each goal carries"): after its last sample, one more segment
 brings each joint to a stop (`ending`): velocity and acceleration 0 at its last point, as joint_trajectory_controller
