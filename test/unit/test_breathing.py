@@ -3,7 +3,7 @@ import numpy
 import pytest
 from conftest import default_configuration
 
-from cssr_system.motion.breathing import CONTINUATION_LEAD, BreathingPlanner
+from cssr_system.motion.breathing import CONTINUATION_LEAD, EASE_IN, POINT_SPACING, BreathingPlanner
 from cssr_system.motion.styles import MotionStyle
 from cssr_system.motion.trajectory_timing import speed_caps, to_points
 from cssr_system.motion.waypoints import animated_parts, make_rng, narrow_bands
@@ -138,15 +138,21 @@ def test_the_robot_driver_dead_band_warning_names_the_narrow_joints():
 @pytest.mark.parametrize("offset", [0.0, 0.15])
 def test_the_first_goal_accelerates_no_more_than_the_style(offset):
     """After an enable (at rest at the centre) or a yield (at rest wherever another node left the part), the first
-    goal eases in: its accelerations stay within the most the style itself ever accelerates."""
+    goal eases in: its accelerations stay within the most the style itself ever accelerates, unless so gentle a
+    blend would leave a joint out of its band past EASE_IN (the leg, whose narrow bands barely accelerate): then the
+    blend is the gentlest that still brings every joint in by then."""
     for part in ("RArm", "LHand", "Leg"):
         joints = PARTS[part].joints
         start = numpy.array(PARTS[part].centre) + offset * numpy.resize([1.0, -1.0], len(joints))
         start = numpy.clip(start, [JOINTS[name].lower for name in joints], [JOINTS[name].upper for name in joints])
         times, _, _, accelerations = run(seconds=12.0, parts=(part,), start=start)[part]
         planner = MotionStyle(BREATHING, make_rng(5)).planner(motions()[part])
-        first = planner(0.0, start, numpy.zeros(len(joints)), numpy.zeros(len(joints))).times[0]
-        assert numpy.abs(accelerations[times <= first]).max() <= planner.function.peak_acceleration * 1.001, part
+        state = (start, numpy.zeros(len(joints)), numpy.zeros(len(joints)))
+        first = planner(0.0, *state).times[0]
+        peak = numpy.abs(accelerations[times <= first]).max()
+        assert planner.ease_in(0.0, state, first) <= EASE_IN, part
+        if peak > planner.function.peak_acceleration * 1.001:
+            assert planner.ease_in(0.0, state, first + POINT_SPACING) > EASE_IN, part
 
 
 def test_the_style_bound_of_acceleration_holds_over_two_minutes(two_minutes):

@@ -5,7 +5,7 @@ import numpy
 import pytest
 
 from cssr_system.animate_behaviour.configuration import shipped_configuration_path
-from cssr_system.motion.report import SAMPLE_RATE, figures, report
+from cssr_system.motion.report import SAMPLE_RATE, band_entry_times, figures, report
 from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION
 
 TIMES = numpy.arange(0.0, 60.0, 1.0 / SAMPLE_RATE)
@@ -56,3 +56,10 @@ def test_through_joint_angles_the_breathing_moves_as_planned_where_the_driver_st
         assert angles[joint].peak_to_peak == pytest.approx(ideal[joint].peak_to_peak, abs=0.005)
         assert angles[joint].moving >= ideal[joint].moving - 0.05 and dcm[joint].moving < 0.2
         assert angles[joint].visible
+
+
+def test_a_joint_enters_its_band_when_it_stays_in_it():
+    times = numpy.arange(0.0, 1.0, 0.1)
+    positions = numpy.array([[0.5, 0.0], [0.3, 0.0], [0.1, 0.0], [-0.3, 0.0], [0.0, 0.0]] + [[0.0, 0.0]] * 4
+                            + [[0.0, 0.5]])
+    numpy.testing.assert_allclose(band_entry_times(times, positions, [-0.2, -0.2], [0.2, 0.2]), [0.4, numpy.inf])

@@ -12,7 +12,7 @@ from cssr_system.pepper.simulated_pepper import (COMMANDED, INVALID_GOAL, INVALI
                                                  GoalPoint, MoveToBase, SimulatedController, SimulatedPepper,
                                                  VelocityBase, action_namespace, base_topic, odometry_topic,
                                                  posture, yaw_quaternion, LimitViolation, MAX_VIOLATIONS_DESCRIBED,
-                                                 describe_violations)
+                                                 describe_violations, parse_initial_positions)
 
 LEG = PARTS["Leg"]  # HipPitch, HipRoll, KneePitch
 EPSILON = 1e-9
@@ -476,3 +476,21 @@ def test_a_goal_beyond_the_limits_is_described_in_one_line_of_its_first_values()
     assert line.startswith("point 0 RShoulderPitch = 2.2 beyond its limit 2.0857; point 1 RShoulderPitch = 3.2")
     assert line.count("beyond its limit") == MAX_VIOLATIONS_DESCRIBED
     assert line.endswith("; and 2 more")
+
+
+def test_named_joints_start_where_initial_positions_says_the_others_at_their_centres():
+    positions = parse_initial_positions("KneePitch=0.0022, RShoulderRoll = 0.5,LHand=0.4")
+    assert positions == {"KneePitch": 0.0022, "RShoulderRoll": 0.5, "LHand": 0.4}
+    pepper = SimulatedPepper("robot", initial_positions=positions)
+    state = dict(zip(pepper.joint_names, pepper.joint_state(0.0).positions))
+    assert state["KneePitch"] == pytest.approx(0.0022)
+    assert state["RShoulderRoll"] == pytest.approx(JOINTS["RShoulderRoll"].upper)  # clamped into its limits
+    assert state["LHand"] == pytest.approx(0.4)
+    assert state["HipPitch"] == pytest.approx(PARTS["Leg"].centre[0])
+    assert parse_initial_positions("") == {}
+
+
+@pytest.mark.parametrize("text", ["Knee=0.1", "KneePitch=", "KneePitch=nan", "KneePitch"])
+def test_initial_positions_that_name_no_joint_or_no_number_are_refused(text):
+    with pytest.raises(ValueError):
+        parse_initial_positions(text)

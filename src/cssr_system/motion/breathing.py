@@ -18,8 +18,8 @@ where needed so that its speed stays under the cap (`trajectory_timing.speed_cap
 A goal samples q, q' and q'' exactly every POINT_SPACING seconds for GOAL_BREATHS breaths; its first point is
 far enough from the part's current state (which may be anywhere after another node's gesture) for the
 controller's quintic splice to stay under the cap and to accelerate no harder than the style itself ever does
-(`BreathingMotion.peak_acceleration`): the first goal after an enable or a yield eases in from the measured pose
-instead of twitching.
+(`BreathingMotion.peak_acceleration`) where that still brings every joint into its band within EASE_IN: the first
+goal after an enable, a yield or a style switch eases in from the measured pose instead of twitching or dawdling.
 
 Every goal ends at rest (README: "Controllers: what each goal carries"): after its last sample, one more segment
 brings each joint to a stop (`ending`): velocity and acceleration 0 at its last point, as joint_trajectory_controller
@@ -58,8 +58,12 @@ AMPLITUDE = {"ShoulderPitch": 1.0, "ShoulderRoll": 0.8, "HipPitch": 1.0, "HipRol
 SHIFTING = ("HipPitch", "HipRoll", "Hand")  # joints with posture shifts
 SMOOTHSTEP_PEAK_SLOPE = 1.875  # the peak of d/dx of 6x^5 - 15x^4 + 10x^3
 SMOOTHSTEP_PEAK_CURVE = 10.0 / math.sqrt(3.0)  # the peak of |d2/dx2| of the same
+# s after the start of a first goal by which every joint is in its band (README: "Motion styles"): the blend onto the
+# function is lengthened to accelerate no more than the style only while it still brings every joint in by then.
+EASE_IN = 2.5
 LONGEST_BLEND = 8.0  # s: the first point is never later than this (a part whose style barely accelerates)
-BLEND_SAMPLES = 33  # times at which a blend's acceleration is evaluated
+BLEND_SAMPLES = 33  # times at which a blend's acceleration and positions are evaluated
+BAND_TOLERANCE = 1e-9  # rad: a held joint's band is its centre, which the blend reaches up to rounding
 LONGEST_ENDING = 12.0  # s: the longest stop at a goal's end that is tried
 ENDING_SAMPLES = 41  # times at which an ending's speed, acceleration and position are evaluated
 ENDING_MARGIN = 0.98  # of the style's acceleration and the speed cap: room for what falls between the samples
@@ -172,13 +176,28 @@ class BreathingMotion:
         return numpy.array(positions), numpy.array(velocities), numpy.array(accelerations)
 
 
-def blend_acceleration(start_state, target_state, duration: float) -> float:
-    """The largest |acceleration| of the controller's quintic from one (p, v, a) state to another in `duration`."""
+def _blend_samples(start_state, target_state, duration: float):
+    """Times (BLEND_SAMPLES, 1) and the positions and accelerations there (BLEND_SAMPLES, joints) of the controller's
+    quintic from one (p, v, a) state to another in `duration`."""
     coefficients = quintic_coefficients(*start_state, *target_state, duration)
     tau = numpy.linspace(0.0, duration, BLEND_SAMPLES)[:, None]
-    accelerations = (2 * coefficients[:, 2] + 6 * coefficients[:, 3] * tau + 12 * coefficients[:, 4] * tau ** 2
-                     + 20 * coefficients[:, 5] * tau ** 3)
-    return float(numpy.abs(accelerations).max())
+    positions, _, accelerations = evaluate_polynomial(coefficients, tau)
+    return tau, positions, accelerations
+
+
+def blend_acceleration(start_state, target_state, duration: float) -> float:
+    """The largest |acceleration| of the controller's quintic from one (p, v, a) state to another in `duration`."""
+    return float(numpy.abs(_blend_samples(start_state, target_state, duration)[2]).max())
+
+
+def blend_entry(start_state, target_state, duration: float, lower, upper) -> float:
+    """When the controller's quintic from one (p, v, a) state to another in `duration` has brought every joint into
+    [lower, upper] for good (to the sample after its last one outside): the target, a point of the function, is in."""
+    tau, positions, _ = _blend_samples(start_state, target_state, duration)
+    outside = ((positions < numpy.asarray(lower) - BAND_TOLERANCE)
+               | (positions > numpy.asarray(upper) + BAND_TOLERANCE)).any(axis=1)
+    late = numpy.flatnonzero(outside)
+    return float(tau[min(late[-1] + 1, len(tau) - 1), 0]) if late.size else 0.0
 
 
 def blend_time(start: numpy.ndarray, start_velocities: numpy.ndarray, target: numpy.ndarray,
@@ -251,17 +270,27 @@ class BreathingPlanner(Planner):
         """CONTINUATION_LEAD before the goal's ending (its last segment) begins."""
         return float(timed.times[-2]) - CONTINUATION_LEAD
 
+    def ease_in(self, t: float, start, first: float) -> float:
+        """When a goal from `start` (at style time t) whose first point is `first` s later has every joint in its
+        band for good."""
+        return blend_entry(start, self.function.sample(t + first), first, self._lower, self._upper)
+
     def _first_point_time(self, t: float, start) -> float:
         """When the goal reaches the function: soon enough to follow it, late enough for the quintic from `start`
-        (at style time t) to stay under the cap and to accelerate no more than the style does (or than the part
-        already does)."""
+        (at style time t) to stay under the cap, and to accelerate no more than the style does (or than the part
+        already does) where that still brings every joint into its band within EASE_IN."""
         first = POINT_SPACING
         for _ in range(3):  # the target moves with the blend time: settle it
             target, target_velocities, _ = self.function.sample(t + first)
             needed = blend_time(start[0], start[1], target, target_velocities, self.caps)
             first = max(POINT_SPACING, math.ceil(needed / POINT_SPACING) * POINT_SPACING)
-        # No harder than the style accelerates, or than the part already does (a live change of settings).
+        # No harder than the style accelerates, or than the part already does (a live change of settings), unless
+        # that would keep a joint out of its band past EASE_IN: a small band's style barely accelerates (the leg's
+        # breath would take 4 to 5 s to reach from 0.2 rad away).
         limit = max(self.function.peak_acceleration, float(numpy.max(numpy.abs(start[2]), initial=0.0)))
-        while first < LONGEST_BLEND and blend_acceleration(start, self.function.sample(t + first), first) > limit:
-            first += POINT_SPACING
+        while blend_acceleration(start, self.function.sample(t + first), first) > limit:
+            longer = first + POINT_SPACING
+            if longer > LONGEST_BLEND or self.ease_in(t, start, longer) > EASE_IN:
+                break
+            first = longer
         return first

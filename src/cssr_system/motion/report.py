@@ -21,7 +21,7 @@ from cssr_system.motion import joint_angle_stream
 from cssr_system.motion.styles import MotionStyle
 from cssr_system.motion.trajectory_timing import to_points
 from cssr_system.motion.waypoints import animated_parts, make_rng
-from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, MIRRORED_JOINTS, PARTS, short_name
+from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, JOINTS, MIRRORED_JOINTS, PARTS, short_name
 from cssr_system.pepper.simulated_pepper import NaoqiDcmDriver, NaoqiDriver
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
 
@@ -30,6 +30,9 @@ MOVING_SPEED = 0.005  # rad/s (unit/s for a hand): a joint slower than this coun
 PERIOD_RANGE = (1.0, 30.0)  # s: the periods a person reads as a rhythm
 # Peak to peak (rad; a hand's opening) a person sees without a dead band in the way: about a centimetre at a hand.
 VISIBLE_AMPLITUDE = 0.02
+EASE_IN_OFFSETS = (0.03, 0.1, 0.2)  # rad off the centres the ease-in is measured from (README: "Motion styles")
+EASE_IN_SECONDS = 8.0  # s of each ease-in run: past the slowest approach, from a joint limit
+BAND_TOLERANCE = 1e-6  # rad: a joint at its band's edge, or held at its centre, is in it
 TITLES = {"ideal": "ideal controller", "naoqi_dcm": "robot's driver (naoqi_dcm)",
           "joint_angles": "robot via joint_angles (naoqi_driver)"}
 
@@ -50,9 +53,10 @@ class ChainedPlans:
     """A part's goals chained as the node chains them, each starting from the state of the previous one; sampled
     like one spline (`sample(t)` -> positions, velocities, accelerations)."""
 
-    def __init__(self, plan, part: str, seconds: float) -> None:
+    def __init__(self, plan, part: str, seconds: float, start=None) -> None:
         count = len(PARTS[part].joints)
-        state = (numpy.array(PARTS[part].centre, dtype=float), numpy.zeros(count), numpy.zeros(count))
+        start = PARTS[part].centre if start is None else start
+        state = (numpy.array(start, dtype=float), numpy.zeros(count), numpy.zeros(count))
         now, self.pieces = 0.0, []
         while now < seconds:
             timed = plan(now, *state)
@@ -99,6 +103,77 @@ def executed_by_joint_angles(times: numpy.ndarray, plans: List[Tuple[Tuple[str, 
         rows += [driver.state(moment)[0] for moment in times[sample:]]
         columns.append(numpy.array(rows))
     return numpy.hstack(columns)
+
+
+def band_entry_times(times: numpy.ndarray, positions: numpy.ndarray, lower, upper,
+                     tolerance: float = BAND_TOLERANCE) -> numpy.ndarray:
+    """Per joint (a column of `positions`), the first of `times` from which it stays in [lower, upper]: when it
+    entered its band for good (inf: still outside at the end)."""
+    outside = (positions < numpy.asarray(lower) - tolerance) | (positions > numpy.asarray(upper) + tolerance)
+    entry = numpy.zeros(positions.shape[1])
+    for column in range(positions.shape[1]):
+        late = numpy.flatnonzero(outside[:, column])
+        if late.size:
+            entry[column] = times[late[-1] + 1] if late[-1] + 1 < len(times) else float("inf")
+    return entry
+
+
+def off_centre_starts(motion, offsets: Sequence[float] = EASE_IN_OFFSETS):
+    """(offset, positions): the part's joints all `offset` from their centres, on one side, then on the other
+    (alternating between joints, so that a part's joints start on both sides of their bands), within the limits."""
+    lower = [JOINTS[name].lower for name in motion.joints]
+    upper = [JOINTS[name].upper for name in motion.joints]
+    pattern = numpy.resize([1.0, -1.0], len(motion.joints))
+    for offset in offsets:
+        for side in (1.0, -1.0):
+            yield side * offset, numpy.clip(numpy.array(PARTS[motion.part].centre) + side * offset * pattern,
+                                            lower, upper)
+
+
+def far_starts(motion):
+    """The part's joints at the limit farthest from each joint's centre (the longest approach of all)."""
+    centre = numpy.array(PARTS[motion.part].centre)
+    lower = numpy.array([JOINTS[name].lower for name in motion.joints])
+    upper = numpy.array([JOINTS[name].upper for name in motion.joints])
+    return numpy.where(centre - lower > upper - centre, lower, upper)
+
+
+def ease_in(config, seed: int, actuation: str, starts=off_centre_starts) -> Dict[str, float]:
+    """Per moving joint, the latest time (s after the enable) at which it enters its band for good, over the
+    `starts` of its part, on the ideal controller ("ideal") or through naoqi_driver ("joint_angles")."""
+    times = numpy.arange(0.0, EASE_IN_SECONDS, 1.0 / SAMPLE_RATE)
+    worst: Dict[str, float] = {}
+    for motion in animated_parts(config, tuple(PARTS)):
+        for _, start in _starts_of(starts, motion):
+            plan = ChainedPlans(MotionStyle(config, make_rng(seed)).planner(motion), motion.part, EASE_IN_SECONDS,
+                                start)
+            if actuation == "joint_angles":
+                positions = executed_by_joint_angles(times, [(motion.joints, plan)])
+            else:
+                positions = numpy.array([plan.sample(moment)[0] for moment in times])
+            entry = band_entry_times(times, positions, [b.lower for b in motion.bounds],
+                                     [b.upper for b in motion.bounds])
+            for name, moving, seconds in zip(motion.joints, motion.moving, entry):
+                if moving:
+                    worst[name] = max(worst.get(name, 0.0), float(seconds))
+    return worst
+
+
+def _starts_of(starts, motion):
+    """`starts(motion)` as (label, positions) pairs: a generator of them, or one array of positions."""
+    chosen = starts(motion)
+    return [(None, chosen)] if isinstance(chosen, numpy.ndarray) else chosen
+
+
+def format_ease_in(style: str, rows: Dict[str, Dict[str, float]]) -> str:
+    """One line per actuation: the latest entry into the bands from the off-centre starts and its joint; then the
+    farthest starts' (a joint at a limit), bound by the speed cap."""
+    lines = ["== style %s, ease-in: s after an enable (or a resume) until every joint is in its band, from %s rad "
+             "off the centres" % (style, "/".join("%g" % offset for offset in EASE_IN_OFFSETS))]
+    for label, worst in rows.items():
+        joint = max(worst, key=worst.get)
+        lines.append("%-40s %5.2f s (%s)" % (label, worst[joint], joint))
+    return "\n".join(lines)
 
 
 def executed_by_driver(times: numpy.ndarray, names: Sequence[str], commanded: numpy.ndarray) -> numpy.ndarray:
@@ -170,6 +245,18 @@ def report(config_file: str, seconds: float, seed: int) -> Dict[Tuple[str, str],
     return result
 
 
+def ease_in_report(config_file: str, seed: int) -> Dict[str, Dict[str, Dict[str, float]]]:
+    """Per style, per actuation (and from the joint limits, on the ideal controller): `ease_in`."""
+    result = {}
+    for style in ("random", "breathing"):
+        config = load_configuration(config_file, {"behaviour": "body", "platform": "robot", "motionStyle": style,
+                                                  "randomSeed": seed})
+        result[style] = {TITLES["ideal"]: ease_in(config, seed, "ideal"),
+                         TITLES["joint_angles"]: ease_in(config, seed, "joint_angles"),
+                         "from a joint limit (ideal controller)": ease_in(config, seed, "ideal", far_starts)}
+    return result
+
+
 def main(argv: Sequence[str]) -> int:
     parser = argparse.ArgumentParser(prog="motion report", description="What a person sees of each motion style, "
                                      "on the ideal controller, on the robot's driver and on naoqi_driver fed by the "
@@ -186,5 +273,8 @@ def main(argv: Sequence[str]) -> int:
     for (style, driver), rows in tables.items():
         print(format_table("== style %s, %s (%.0f s, seed %d)" % (style, TITLES[driver], arguments.seconds,
                                                                   arguments.seed), rows))
+        print()
+    for style, rows in ease_in_report(arguments.config or shipped_configuration_path(), arguments.seed).items():
+        print(format_ease_in(style, rows))
         print()
     return 0

@@ -57,7 +57,7 @@ NAOQI_DRIVER: the robot's other driver, naoqi_driver, executing ``/joint_angles`
 """
 import math
 from collections import OrderedDict
-from typing import Any, Dict, List, NamedTuple, Optional, Sequence, Tuple
+from typing import Any, Dict, List, Mapping, NamedTuple, Optional, Sequence, Tuple
 
 import numpy
 
@@ -144,10 +144,33 @@ def posture(key: str, name: str = "rest") -> Tuple[float, ...]:
     raise ValueError("unknown posture {!r} (expected one of: {})".format(name, ", ".join(POSTURES)))
 
 
-def controller_posture(key: str, name: str = "rest") -> Tuple[float, ...]:
-    """`posture` in the order of the controller's joints (joint_table.CONTROLLER_JOINTS)."""
+def controller_posture(key: str, name: str = "rest",
+                       initial_positions: Optional[Mapping[str, float]] = None) -> Tuple[float, ...]:
+    """`posture` in the order of the controller's joints (joint_table.CONTROLLER_JOINTS), with the joints that
+    `initial_positions` names there instead (the controller clamps them into the limits)."""
     by_name = dict(zip(part(key).joints, posture(key, name)))
+    by_name.update((joint, value) for joint, value in (initial_positions or {}).items() if joint in by_name)
     return tuple(by_name[joint] for joint in CONTROLLER_JOINTS[key])
+
+
+def parse_initial_positions(text: str) -> Dict[str, float]:
+    """`initial_positions` from "Joint=value, Joint=value" (a joint a controller drives, a finite number; "" none);
+    ValueError naming what is wrong. Lets a test start the robot as another node left it, off the centres."""
+    positions: Dict[str, float] = {}
+    for item in (piece.strip() for piece in text.split(",")):
+        if not item:
+            continue
+        joint, _, value = (piece.strip() for piece in item.partition("="))
+        if joint not in JOINTS:
+            raise ValueError("initial_positions: unknown joint {!r} (expected Joint=value, ...)".format(joint))
+        try:
+            number = float(value)
+        except ValueError:
+            number = float("nan")
+        if not math.isfinite(number):
+            raise ValueError("initial_positions: {} needs a finite number (got {!r})".format(joint, value))
+        positions[joint] = number
+    return positions
 
 
 class JointTrajectoryState(NamedTuple):
@@ -888,12 +911,14 @@ class SimulatedPepper:
     the physical robot's driver moves them (`NaoqiDcmDriver`); with NAOQI_DRIVER, as naoqi_driver executes the
     `joint_angles` calls (`NaoqiDriver`); otherwise (IDEAL) as the controllers' hardware reports them
     (`velocity_report`). `control_rate`, `velocity_report`, `goal_time` and `stopped_velocity_tolerance` apply to
-    every controller (`SimulatedController`), which judges its goals on its own hardware, the driver or not."""
+    every controller (`SimulatedController`), which judges its goals on its own hardware, the driver or not. The
+    joints start in `initial_posture`, except those `initial_positions` (joint name: position) names."""
 
     def __init__(self, platform: str = "robot", initial_posture: str = "rest", now: float = 0.0,
                  moveto_keep_latest: bool = False, driver: str = IDEAL, control_rate: float = CONTROL_RATE,
                  velocity_report: str = MEASURED, goal_time: float = GOAL_TIME,
-                 stopped_velocity_tolerance: float = STOPPED_VELOCITY_TOLERANCE) -> None:
+                 stopped_velocity_tolerance: float = STOPPED_VELOCITY_TOLERANCE,
+                 initial_positions: Optional[Mapping[str, float]] = None) -> None:
         if driver not in DRIVERS:
             raise ValueError("unknown driver {!r} (expected one of: {})".format(driver, ", ".join(DRIVERS)))
         if platform not in PLATFORMS:
@@ -901,8 +926,8 @@ class SimulatedPepper:
         self.platform = PLATFORMS[platform]
         self.controllers: Dict[str, SimulatedController] = OrderedDict(
             (key, SimulatedController(CONTROLLER_NAMES[key], CONTROLLER_JOINTS[key],
-                                      controller_posture(key, initial_posture), now, control_rate, velocity_report,
-                                      goal_time, stopped_velocity_tolerance))
+                                      controller_posture(key, initial_posture, initial_positions), now, control_rate,
+                                      velocity_report, goal_time, stopped_velocity_tolerance))
             for key in self.platform.controller_keys)
         # Joints no controller drives (the simulator's hands) stay at their centre; wheels at 0.
         self._fixed = {joint: position

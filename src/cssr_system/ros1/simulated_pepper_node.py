@@ -6,6 +6,8 @@ Parameters (private):
   ~platform            "robot" (default: pepper_dcm, hand controllers, cmd_moveto) or "simulator"
                        (pepper, no hand controllers, cmd_vel)
   ~initial_posture     "rest" (default: every part at its centre, head 0) or "zero"
+  ~initial_positions   "Joint=value, ..." (default ""): these joints start there instead, as another node may have
+                       left them (clamped into their limits)
   ~moveto_keep_latest  false (default): cmd_moveto commands arriving while the base turns or settles are
                        dropped; true: the latest of them runs when the base is free (a queue of one)
   ~feedback_rate       Hz of action feedback for active goals (default 10; 0: none): the last control update's
@@ -64,7 +66,8 @@ from cssr_system.pepper.simulated_pepper import (CONTROL_RATE, GOAL_TIME, MEASUR
                                                  STOPPED_VELOCITY_TOLERANCE, SUCCESSFUL, GoalPoint, GoalTolerances,
                                                  SimulatedPepper, action_namespace, base_topic,
                                                  check_loop_settings, describe_violations, fill_state_messages,
-                                                 odometry_topic, DRIVERS, IDEAL, NAOQI_DRIVER)
+                                                 odometry_topic, parse_initial_positions, DRIVERS, IDEAL,
+                                                 NAOQI_DRIVER)
 
 NODE_NAME = "simulatedPepper"
 UPDATE_RATE = 50.0  # Hz: stepping the model (its control loop catches up), /joint_states and odometry
@@ -74,14 +77,15 @@ JOINT_ANGLES_TOPIC = "joint_angles"  # naoqi_driver's setAngles topic, in the na
 class SimulatedPepperNode:
     def __init__(self, platform: str, initial_posture: str, moveto_keep_latest: bool, feedback_rate: float,
                  driver: str = IDEAL, control_rate: float = CONTROL_RATE, velocity_report: str = MEASURED,
-                 goal_time: float = GOAL_TIME, stopped_velocity_tolerance: float = STOPPED_VELOCITY_TOLERANCE):
+                 goal_time: float = GOAL_TIME, stopped_velocity_tolerance: float = STOPPED_VELOCITY_TOLERANCE,
+                 initial_positions: Optional[Dict[str, float]] = None):
         # The model's clock starts at 0 at start-up: small numbers keep the splines' arithmetic exact.
         self._epoch = rospy.get_time()
         # Guards the model. Lock order: an action server's own lock first (actionlib holds it around our
         # callbacks), then this one; never the reverse, so goal handles are used without this lock.
         self._lock = threading.Lock()
         self.model = SimulatedPepper(platform, initial_posture, self._now(), moveto_keep_latest, driver, control_rate,
-                                     velocity_report, goal_time, stopped_velocity_tolerance)
+                                     velocity_report, goal_time, stopped_velocity_tolerance, initial_positions)
         self.platform = self.model.platform
         self._feedback_period = 1.0 / feedback_rate if feedback_rate > 0 else None
         self._next_feedback = 0.0
@@ -329,9 +333,15 @@ def main() -> int:
         rospy.logfatal("%s: ~driver must be one of %s (got %r)", NODE_NAME, ", ".join(DRIVERS), driver)
         return 2
     loop = loop_parameters()
+    try:
+        initial_positions = parse_initial_positions(str(rospy.get_param("~initial_positions", "")))
+    except ValueError as error:
+        rospy.logfatal("%s: ~%s", NODE_NAME, error)
+        return 2
     if loop is None:
         return 2
     SimulatedPepperNode(platform, initial_posture, bool(rospy.get_param("~moveto_keep_latest", False)),
-                        float(rospy.get_param("~feedback_rate", 10.0)), driver, **loop)
+                        float(rospy.get_param("~feedback_rate", 10.0)), driver, initial_positions=initial_positions,
+                        **loop)
     rospy.spin()
     return 0

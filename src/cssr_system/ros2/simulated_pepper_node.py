@@ -9,6 +9,7 @@ on the interfaces ros2_control's joint_trajectory_controller and naoqi_driver2 s
 Parameters (declared with these defaults; any other is ignored):
   platform            "robot" (pepper_dcm, hand controllers, cmd_moveto) or "simulator" (pepper, no hands, cmd_vel)
   initial_posture     "rest" (every part at its centre) or "zero"
+  initial_positions   "Joint=value, ..." (""): these joints start there instead, as another node may have left them
   moveto_keep_latest  false: cmd_moveto commands arriving while the base turns or settles are dropped; true: the
                       latest of them runs when the base is free
   feedback_rate       Hz of action feedback for active goals (10; 0: none)
@@ -70,7 +71,7 @@ from cssr_system.pepper.simulated_pepper import (CONTROL_RATE, DRIVERS, GOAL_TIM
                                                  NAOQI_DRIVER, PLATFORMS, POSTURES, STOPPED_VELOCITY_TOLERANCE,
                                                  SUCCESSFUL, GoalOutcome, GoalPoint, GoalTolerances, SimulatedPepper,
                                                  action_namespace, base_topic, check_loop_settings, odometry_topic,
-                                                 describe_violations, fill_state_messages)
+                                                 describe_violations, fill_state_messages, parse_initial_positions)
 from cssr_system.ros2.program import on_signals, run_node
 
 NODE_NAME = "simulatedPepper"
@@ -94,7 +95,7 @@ PARAMETERS: Tuple[Tuple[str, Any], ...] = (
     ("driver", IDEAL), ("control_rate", CONTROL_RATE), ("velocity_report", MEASURED), ("goal_time", GOAL_TIME),
     ("stopped_velocity_tolerance", STOPPED_VELOCITY_TOLERANCE),
     ("allow_nonzero_velocity_at_trajectory_end", JAZZY.allow_nonzero_velocity_at_trajectory_end),
-    ("result_timeout", RESULT_TIMEOUT))
+    ("result_timeout", RESULT_TIMEOUT), ("initial_positions", ""))
 CHOICES = (("platform", tuple(PLATFORMS)), ("initial_posture", POSTURES), ("driver", DRIVERS))
 LOOP_SETTINGS = ("control_rate", "velocity_report", "goal_time", "stopped_velocity_tolerance")
 
@@ -111,6 +112,7 @@ class Settings(NamedTuple):
     stopped_velocity_tolerance: float
     allow_nonzero_velocity_at_trajectory_end: bool
     result_timeout: float
+    initial_positions: Dict[str, float]
 
 
 def is_number(value: Any) -> bool:
@@ -130,7 +132,10 @@ def check_settings(values: Dict[str, Any]) -> Settings:
     if not is_number(values["result_timeout"]) or values["result_timeout"] <= 0:
         raise ValueError("result_timeout must be a finite number > 0 (got {!r})".format(values["result_timeout"]))
     check_loop_settings(**{name: values[name] for name in LOOP_SETTINGS})
+    if not isinstance(values["initial_positions"], str):
+        raise ValueError("initial_positions must be a string (got {!r})".format(values["initial_positions"]))
     converted = {name: float(value) if is_number(value) else value for name, value in values.items()}
+    converted["initial_positions"] = parse_initial_positions(values["initial_positions"])
     return Settings(**converted)
 
 
@@ -198,7 +203,8 @@ class SimulatedPepperNode:
         self._lock = threading.Lock()  # guards the model, the goals and _epoch_ns; goal handles are used outside it
         self.model = SimulatedPepper(settings.platform, settings.initial_posture, self._now(),
                                      settings.moveto_keep_latest, settings.driver, settings.control_rate,
-                                     settings.velocity_report, settings.goal_time, settings.stopped_velocity_tolerance)
+                                     settings.velocity_report, settings.goal_time, settings.stopped_velocity_tolerance,
+                                     settings.initial_positions)
         self.platform = self.model.platform
         self.rules = JAZZY._replace(
             allow_nonzero_velocity_at_trajectory_end=settings.allow_nonzero_velocity_at_trajectory_end)
