@@ -38,8 +38,8 @@ def test_the_arms_are_mirror_images_at_mirrored_angles():
 @pytest.mark.parametrize("limit", ["lower", "upper"])
 def test_the_shoulder_pitch_at_its_limits_swings_the_arm_about_the_shoulder_in_the_sagittal_plane(limit):
     angle = getattr(JOINTS["LShoulderPitch"], limit)
-    shoulder, elbow = origin(dict(ZERO, LShoulderPitch=angle), "LShoulder"), origin(dict(ZERO, LShoulderPitch=angle),
-                                                                                   "LElbow")
+    angles = dict(ZERO, LShoulderPitch=angle)
+    shoulder, elbow = origin(angles, "LShoulder"), origin(angles, "LElbow")
     # Axis y: x turns towards -z for a positive angle (the arm hangs down at the rest centre of about 1.56).
     assert elbow - shoulder == pytest.approx([0.1812 * math.cos(angle) + 0.00013 * math.sin(angle), 0.015,
                                               -0.1812 * math.sin(angle) + 0.00013 * math.cos(angle)])

@@ -83,11 +83,11 @@ def recorded_clearances(names: Sequence[str], positions: numpy.ndarray,
         values = positions[:, column]
         if numpy.all(numpy.isnan(values)):
             continue
-        angles[name] = _filled(values)
+        angles[name] = filled(values)
     return closest_per_arm(arm_clearances(link_frames(angles, headings, count=len(positions))))
 
 
-def _filled(values: numpy.ndarray) -> numpy.ndarray:
+def filled(values: numpy.ndarray) -> numpy.ndarray:
     """NaN samples replaced by the last measured one before them (the first measured one at the start)."""
     values = numpy.array(values, dtype=float)
     valid = numpy.flatnonzero(~numpy.isnan(values))
