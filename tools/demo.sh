@@ -153,4 +153,8 @@ if [ "${DEMO_ROBOTS:-1}" = 2 ]; then  # one plot of both robots on one time axis
   python3 scripts/plotAnimation.py "$output_dir/robot1/animation.json" "$output_dir/robot2/animation.json" \
     -o "$output_dir/robots.png" || exit 1
 fi
+# Pepper's figure moving as recorded, beside each plot (doc/figure.md).
+for recording in "$output_dir"/animation.json "$output_dir"/robot*/animation.json; do
+  [ ! -f "$recording" ] || python3 scripts/pepperFigure.py "$recording" -o "${recording%.json}.gif" || exit 1
+done
 exit 0

@@ -218,3 +218,9 @@ if [ "${#robots[@]}" = 2 ]; then  # one plot of both robots on one time axis
     bash -c 'PYTHONPATH="$0${PYTHONPATH:+:$PYTHONPATH}" exec python3 scripts/plotAnimation.py "$@"' "$REPO_DIR/src" \
     "$output_dir/robot1/animation.json" "$output_dir/robot2/animation.json" -o "$output_dir/robots.png" || exit 1
 fi
+# Pepper's figure moving as recorded, beside each plot (doc/figure.md).
+for recording in "$output_dir"/animation.json "$output_dir"/robot*/animation.json; do
+  [ ! -f "$recording" ] || bash tools/ros2/run.sh \
+    bash -c 'PYTHONPATH="$0${PYTHONPATH:+:$PYTHONPATH}" exec python3 scripts/pepperFigure.py "$@"' "$REPO_DIR/src" \
+    "$recording" -o "${recording%.json}.gif" || exit 1
+done

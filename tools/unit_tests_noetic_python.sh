@@ -19,7 +19,7 @@ result_xml=$1
 PINS="numpy==1.17.4 matplotlib==3.1.2 kiwisolver==1.1.0 cycler==0.10.0 pyparsing==2.4.6 python-dateutil==2.7.3
 six==1.14.0 pytest==4.6.9 attrs==19.3.0 more-itertools==4.2.0 pluggy==0.13.0 py==1.8.1 packaging==20.3 wcwidth==0.1.8
 atomicwrites==1.1.5 hypothesis==5.5.4 sortedcontainers==2.1.0 PyYAML==5.3.1 rospkg==1.5.0 catkin_pkg==0.5.2
-docutils==0.16 distro==1.4.0 netifaces==0.10.4"
+docutils==0.16 distro==1.4.0 netifaces==0.10.4 Pillow==7.0.0"
 # The system's pure-Python ROS modules that the unit tests import, directly or through rospy and actionlib.
 ROS_MODULES="rospy rosgraph roslib genpy genmsg actionlib roslaunch rosmaster rosparam rosservice rostest rosunit
 rostopic rosnode rosmsg rosclean catkin roscpp"

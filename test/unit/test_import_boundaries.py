@@ -23,7 +23,7 @@ ADAPTERS = {"ros1": ROS1, "ros2": ROS2}
 # The rooms of src/cssr_system/, each on a floor: a room imports from its own floor and those below it.
 FLOORS = {"package_files": 0, "pepper": 0,
           "animate_behaviour": 1,
-          "motion": 2,
+          "motion": 2, "figure": 2,
           "core": 3,
           "recording": 4, "harness": 5, "demo": 5, "soak": 5,
           "ros1": 6, "ros2": 6}

@@ -27,6 +27,7 @@ from cssr_system.core.part_stream import PartStream
 from cssr_system.core.motion_stream import StreamState
 from cssr_system.core.session import CANCELLED, DISABLED, DURATION_ELAPSED, HOMED, REPLACED, Session, starts_return
 from cssr_system.core.status import part_rows
+from cssr_system.figure.clearance import close_hand_warnings
 from cssr_system.motion.styles import MotionStyle
 from cssr_system.motion.waypoints import animated_parts, make_rng, narrow_bands
 from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, PARTS
@@ -110,6 +111,9 @@ class Supervisor:
         set_verbose(config.verbose_mode)
         for key, value in configuration_items(config).items():
             console.info("%s: %-18s %s", NODE_NAME, key, value)
+        # Before the node serves anyone: the check takes a few tenths of a second (README: "See Pepper move").
+        for line in close_hand_warnings(config):
+            console.warning("%s: %s.", NODE_NAME, line)
         self.config = config
 
     def start(self) -> None:

@@ -17,6 +17,8 @@ from typing import Dict, List, NamedTuple, Sequence, Tuple
 import numpy
 
 from cssr_system.animate_behaviour.configuration import load_configuration, shipped_configuration_path
+from cssr_system.figure.clearance import (HAND_MARGIN, band_clearance, largest_quiet_selected_range, per_arm_lines,
+                                          recorded_clearances)
 from cssr_system.motion import joint_angle_stream
 from cssr_system.motion.styles import MotionStyle
 from cssr_system.motion.trajectory_timing import to_points
@@ -257,6 +259,38 @@ def ease_in_report(config_file: str, seed: int) -> Dict[str, Dict[str, Dict[str,
     return result
 
 
+def style_clearances(config, seconds: float, seed: int):
+    """(times, each arm's smallest clearance) of the style's commanded run at intensity 1 (`figure.clearance`)."""
+    times, names, commanded = commanded_run(config._replace(intensity=1.0), seconds, seed)
+    return times, recorded_clearances(names, commanded)
+
+
+def clearance_configurations(config_file: str) -> List[Tuple[str, Dict[str, object]]]:
+    """(title, overrides) of the configurations the clearance report measures: the shipped ranges, the largest the
+    configuration check accepts without a warning, and every range at its largest (1)."""
+    base = {"behaviour": "body", "platform": "robot"}
+    quiet = largest_quiet_selected_range(load_configuration(config_file, base))
+    widest = dict(base, selectedRange=1.0, armMaximumRange="1,1,1,1,1", legMaximumRange="1,1,1")
+    return [("the file's ranges", base), ("largest without a warning: selectedRange %g" % quiet,
+                                          dict(base, selectedRange=quiet)), ("every range at 1", widest)]
+
+
+def clearance_report(config_file: str, seconds: float, seed: int) -> List[str]:
+    """Lines: per configuration, the hands' closest approach anywhere in their bands and, per style, each arm's
+    smallest clearance over the commanded run, with the pair of solids and the instant."""
+    lines = ["== clearance of the arms (body model of doc/figure.md; intensity 1; %.0f s, seed %d; warning under "
+             "%.0f cm)" % (seconds, seed, 100 * HAND_MARGIN)]
+    for title, overrides in clearance_configurations(config_file):
+        config = load_configuration(config_file, overrides)
+        band = band_clearance(config._replace(intensity=1.0)).closest
+        lines.append("%s: a hand anywhere in its band %.1f cm (%s - %s)" % (title, 100 * band.distance, band.solid,
+                                                                            band.other))
+        for style in ("random", "breathing"):
+            times, found = style_clearances(config._replace(motion_style=style), seconds, seed)
+            lines.extend("  %-9s %s" % (style, line) for line in per_arm_lines(found, times))
+    return lines
+
+
 def main(argv: Sequence[str]) -> int:
     parser = argparse.ArgumentParser(prog="motion report", description="What a person sees of each motion style, "
                                      "on the ideal controller, on the robot's driver and on naoqi_driver fed by the "
@@ -277,4 +311,10 @@ def main(argv: Sequence[str]) -> int:
     for style, rows in ease_in_report(arguments.config or shipped_configuration_path(), arguments.seed).items():
         print(format_ease_in(style, rows))
         print()
+    try:
+        print("\n".join(clearance_report(arguments.config or shipped_configuration_path(), arguments.seconds,
+                                         arguments.seed)))
+    except (OSError, ValueError) as error:
+        print("motion report: error: %s" % error, file=sys.stderr)
+        return 1
     return 0
