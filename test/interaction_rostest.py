@@ -151,15 +151,26 @@ class InteractionTest(unittest.TestCase):
         self.assertEqual(ours, [], "no Twist of ours once the base is switched off")
 
     def test_a_goal_with_a_duration_succeeds_on_time_with_every_part_home(self):
-        started = time.monotonic()
-        self.action.send_goal(AnimateGoal(intensity=0.6, parts=["arms", "hands", "leg"], duration=5.0))
-        self.assertTrue(self.action.wait_for_result(rospy.Duration(15)))
-        ended = time.monotonic() - started
-        self.assertEqual(self.action.get_state(), GoalStatus.SUCCEEDED)
-        self.assertEqual(self.action.get_result().reason, "duration elapsed")
-        self.assertAlmostEqual(ended, 5.0, delta=DURATION_TOLERANCE)
-        time.sleep(0.3)
-        self.assert_at_centre()
+        """At intensity 1 the parts are far from their centres and moving when the duration ends, each style, and the
+        timed goal replaced another a moment before: each part starts back when its own return needs."""
+        for style in ("random", "breathing"):
+            replaced = actionlib.SimpleActionClient(NODE + "/animate", AnimateAction)
+            self.assertTrue(replaced.wait_for_server(rospy.Duration(10)))
+            replaced.send_goal(AnimateGoal(intensity=1.0, style=style))
+            time.sleep(1.0)
+            started = time.monotonic()
+            self.action.send_goal(AnimateGoal(intensity=1.0, style=style, duration=4.0))
+            self.assertTrue(self.action.wait_for_result(rospy.Duration(15)))
+            ended = time.monotonic() - started
+            self.assertEqual(self.action.get_state(), GoalStatus.SUCCEEDED, style)
+            self.assertEqual(self.action.get_result().reason, "duration elapsed")
+            self.assertAlmostEqual(ended, 4.0, delta=DURATION_TOLERANCE, msg=style)
+            self.assertAlmostEqual(self.action.get_result().animated, 4.0, delta=DURATION_TOLERANCE, msg=style)
+            self.assert_at_centre()
+            with self.lock:
+                states = {part.part: part.state for part in self.statuses[-1][1].parts}
+            self.assertEqual(set(states.values()), {"idle"}, "every part and the base back: %s" % states)
+            self.assertEqual(replaced.get_state(), GoalStatus.PREEMPTED)
 
     def test_a_second_goal_preempts_the_first_without_a_stop(self):
         first = actionlib.SimpleActionClient(NODE + "/animate", AnimateAction)

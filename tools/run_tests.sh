@@ -49,16 +49,17 @@ fi
 
 expected=(checksums.xml unit.xml unit-python38.xml system.xml check-python38.xml check-catkin-lint.xml check-flake8.xml
           check-complexity.xml ros2.xml ros2-kilted.xml demo-ros2-kilted.xml)
-# The ROS 2 lane: every ROS 2 test on Jazzy; then Kilted's set-up, its harness test and its demo test (on a ROS 2
-# domain of its own: Jazzy's demo test runs among the system tests). Output: ros2.out, then ros2-kilted.out.
+# The ROS 2 lane: every ROS 2 test on Jazzy; then Kilted's set-up, its harness and successor tests and its demo test
+# (on a ROS 2 domain of its own: Jazzy's demo test runs among the system tests). Output: ros2.out, then ros2-kilted.out.
 ros2_lane() {
   local status=0
   bash tools/ros2/run.sh python3 -m pytest test/ros2 -q -p no:cacheprovider -W ignore::DeprecationWarning \
     --junitxml="$RESULTS_DIR/ros2.xml" > "$RESULTS_DIR/ros2.out" 2>&1 || status=1
   {
     CSSR_ROS2_DISTRO=kilted bash tools/ros2/setup.sh &&
-      { CSSR_ROS2_DISTRO=kilted bash tools/ros2/run.sh python3 -m pytest test/ros2/test_harness_ros2.py -q \
-          -p no:cacheprovider -W ignore::DeprecationWarning --junitxml="$RESULTS_DIR/ros2-kilted.xml"
+      { CSSR_ROS2_DISTRO=kilted bash tools/ros2/run.sh python3 -m pytest test/ros2/test_harness_ros2.py \
+          test/ros2/test_successor_ros2.py -q -p no:cacheprovider -W ignore::DeprecationWarning \
+          --junitxml="$RESULTS_DIR/ros2-kilted.xml"
         harness=$?
         CSSR_ROS2_DISTRO=kilted python3 -m pytest test/system/test_demo_ros2.py -q -p no:cacheprovider \
           --junitxml="$RESULTS_DIR/demo-ros2-kilted.xml" && [ "$harness" = 0 ]; }
