@@ -144,6 +144,14 @@ def test_a_renamed_node_offers_its_service_under_its_new_name(graph):
     assert "/animateBehaviour/setActivation" not in services
 
 
+def test_each_robot_serves_the_successors_action_and_stop_service_in_its_own_namespace(graph):
+    services = {name for name, _ in graph.node.get_service_names_and_types()}
+    for robot in NODES:
+        assert "/%s/animate_behavior/stop" % robot in services
+        assert "/%s/animate_behavior/_action/send_goal" % robot in services
+    assert not {"/animate_behavior/stop", "/animate_behavior/_action/send_goal"} & services
+
+
 def test_the_two_nodes_never_write_into_one_log_file(graph):
     (first,) = started_in(graph.log_file)  # one node holds the file asked for; the other writes beside it
     (second,) = set(NODES.values()) - {first}
