@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The whole test suite: installs what is missing, builds the workspace and the ROS 2 side, then runs the static
 # checks and the unit tests (pytest), then the system tests and the integration tests (rostest) in three lanes
-# (tools/run_test_job.sh) and, beside them, the ROS 2 tests (pytest in the ROS 2 environment: every one on Jazzy, then
-# the harness test and the demo test on Kilted), and ends with `N passed, N failed`.
+# (tools/run_test_job.sh) and, beside them, the ROS 2 tests (pytest in the ROS 2 environment: every one on Jazzy, the
+# node of a colcon build among them, then the harness test and the demo test on Kilted), and ends with `N passed, N
+# failed`.
 # Exits non-zero when any test fails or does not run.
 set -uo pipefail
 source "$(dirname "$0")/common.sh"
@@ -48,13 +49,24 @@ elif [ "$ros2_status" != 0 ]; then
 fi
 
 expected=(checksums.xml unit.xml unit-python38.xml system.xml check-python38.xml check-catkin-lint.xml check-flake8.xml
-          check-complexity.xml ros2.xml ros2-kilted.xml demo-ros2-kilted.xml)
-# The ROS 2 lane: every ROS 2 test on Jazzy; then Kilted's set-up, its harness test and its demo test (on a ROS 2
-# domain of its own: Jazzy's demo test runs among the system tests). Output: ros2.out, then ros2-kilted.out.
+          check-complexity.xml ros2.xml ros2-colcon.xml ros2-kilted.xml demo-ros2-kilted.xml)
+# The ROS 2 lane: every ROS 2 test on Jazzy, with doc/ros2.md's colcon build made beside them (niced: they time their
+# nodes), then the test of the node from that build (its own call of tools/ros2/colcon_build.sh finds little left to
+# do); then Kilted's set-up, its harness test and its demo test (on a ROS 2 domain of its own: Jazzy's demo test runs
+# among the system tests). Output: ros2.out (the colcon build's: ros2-colcon.out), then ros2-kilted.out.
+colcon_test=test/ros2/test_colcon_install_ros2.py
 ros2_lane() {
-  local status=0
-  bash tools/ros2/run.sh python3 -m pytest test/ros2 -q -p no:cacheprovider -W ignore::DeprecationWarning \
-    --junitxml="$RESULTS_DIR/ros2.xml" > "$RESULTS_DIR/ros2.out" 2>&1 || status=1
+  local status=0 colcon
+  nice -n 10 bash tools/ros2/colcon_build.sh > "$RESULTS_DIR/ros2-colcon.out" 2>&1 &
+  colcon=$!
+  {
+    bash tools/ros2/run.sh python3 -m pytest test/ros2 -q -p no:cacheprovider -W ignore::DeprecationWarning \
+      --ignore="$colcon_test" --junitxml="$RESULTS_DIR/ros2.xml" || status=1
+    wait "$colcon" || tail -n 40 "$RESULTS_DIR/ros2-colcon.out"
+    tail -n 1 "$RESULTS_DIR/ros2-colcon.out"
+    bash tools/ros2/run.sh python3 -m pytest "$colcon_test" -q -p no:cacheprovider -W ignore::DeprecationWarning \
+      --junitxml="$RESULTS_DIR/ros2-colcon.xml" || status=1
+  } > "$RESULTS_DIR/ros2.out" 2>&1
   {
     CSSR_ROS2_DISTRO=kilted bash tools/ros2/setup.sh &&
       { CSSR_ROS2_DISTRO=kilted bash tools/ros2/run.sh python3 -m pytest test/ros2/test_harness_ros2.py -q \
@@ -71,7 +83,7 @@ if [ "$ros2_status" = 0 ]; then
   ros2_lane &
   ros2_tests=$!
 else
-  for name in ros2 ros2-kilted demo-ros2-kilted; do
+  for name in ros2 ros2-colcon ros2-kilted demo-ros2-kilted; do
     python3 tools/check_to_junit.py --skipped "$(tail -n 1 "$RESULTS_DIR/ros2-setup.out")" "$RESULTS_DIR/$name.xml" \
       "${name//-/_}_tests"
   done
@@ -104,9 +116,9 @@ for job in "${soaks[@]}"; do cat "$RESULTS_DIR/$(basename "$job" .py).line"; don
 
 if [ -n "$ros2_tests" ]; then
   if wait "$ros2_tests"; then
-    echo "  test/ros2 (Jazzy; the harness and demo tests on Kilted): ok"
+    echo "  test/ros2 (Jazzy, a colcon build's node among them; the harness and demo tests on Kilted): ok"
   else
-    echo "  test/ros2 (Jazzy; the harness and demo tests on Kilted): FAILED"
+    echo "  test/ros2 (Jazzy, a colcon build's node among them; the harness and demo tests on Kilted): FAILED"
     tail -n 40 "$RESULTS_DIR/ros2.out" "$RESULTS_DIR/ros2-kilted.out"
   fi
 fi

@@ -68,6 +68,10 @@ def test_the_install_environment_finds_every_package_in_the_colcon_install(colco
     assert found.returncode == 0, found.stderr
     for module, path in zip(modules, found.stdout.split()):
         assert path.startswith("%s/%s/" % (colcon_install, module)), (module, path)
+    share = colcon_install / "cssr_system" / "share" / "cssr_system"
+    for installed in ("launch/animate_behaviour.launch.py", "config/animateBehaviourConfiguration.ini",
+                      "data/simulatorTopics.dat", "package.xml"):
+        assert (share / installed).is_file(), "%s: `ros2 launch` and the node find it there" % installed
     prefixes = install_environment["AMENT_PREFIX_PATH"].split(":")
     assert sorted(prefixes) == sorted(["%s/%s" % (colcon_install, module) for module in modules]
                                       + [os.environ["ROS2_VENV"]]), "the install's four packages and the venv"
