@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Builds the four ament packages of ros2/ with colcon, as doc/ros2.md's "Build in a colcon workspace" tells a user
+# Builds the ament packages of ros2/ with colcon, as doc/ros2.md's "Build in a colcon workspace" tells a user
 # without a ROS 2 distribution to (the distribution's venv activated, then `colcon build --base-paths
 # <repository>/ros2`), in a colcon workspace of its own: $WORKSPACE_DIR/ros2/<distribution>/colcon (build/, install/,
 # log/; the distribution: CSSR_ROS2_DISTRO, as for tools/ros2/setup.sh, which must have made the venv first). make

@@ -4,8 +4,7 @@
 # wheels of PyPI (tools/ros2/requirements-<distribution>.txt), and the four ament packages of ros2/ built and
 # installed into its install/ (build folders and logs in its build/). Debian has no ROS 2 and PyPI has no
 # control_msgs or naoqi_bridge_msgs, hence our own copies. Each step is skipped while its stamp (a hash of what it
-# is made from) is unchanged, so a second run takes seconds. Works from any shell, a ROS 1 one included. The venv
-# also holds colcon (tools/ros2/requirements-colcon.txt), for tools/ros2/colcon_build.sh and doc/ros2.md's recipe.
+# is made from) is unchanged, so a second run takes seconds. Works from any shell, a ROS 1 one included.
 # Use the result with `bash tools/ros2/run.sh CMD...` or `source tools/ros2/env.sh`.
 set -euo pipefail
 tools_dir=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd -P)
@@ -20,6 +19,7 @@ venv="$ROS2_VENV"
 build_dir="$ros2_dir/build"
 install_dir="$ROS2_INSTALL"
 requirements="$tools_dir/requirements-$CSSR_ROS2_DISTRO.txt"
+# colcon, in the same venv: for tools/ros2/colcon_build.sh and doc/ros2.md's recipe.
 colcon_requirements="$tools_dir/requirements-colcon.txt"
 # None needs another one built first, so each has a stamp of its own.
 packages=(control_msgs naoqi_bridge_msgs cssr_system_interfaces cssr_system)
