@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The whole test suite: installs what is missing, builds the workspace and the ROS 2 side, then runs the static
 # checks and the unit tests (pytest), then the system tests and the integration tests (rostest) in three lanes
-# (tools/run_test_job.sh) and, beside them, the ROS 2 tests (pytest in the ROS 2 environment: every one on Jazzy, then
-# the harness test and the demo test on Kilted), and ends with `N passed, N failed`.
+# (tools/run_test_job.sh) and, beside them, the ROS 2 tests (pytest in the ROS 2 environment: every one on Jazzy, the
+# node of a colcon build among them, then the harness test and the demo test on Kilted), and ends with `N passed, N
+# failed`.
 # Exits non-zero when any test fails or does not run.
 set -uo pipefail
 source "$(dirname "$0")/common.sh"
@@ -47,14 +48,26 @@ elif [ "$ros2_status" != 0 ]; then
   tail -n 40 "$RESULTS_DIR/ros2-setup.out"; echo "the ROS 2 side could not be made"; exit 1
 fi
 
+# The node of doc/ros2.md's colcon build: tested in the ROS 2 lane once that build is done, apart from test/ros2's rest.
+colcon_test=test/ros2/test_colcon_install_ros2.py
 expected=(checksums.xml unit.xml unit-python38.xml system.xml check-python38.xml check-catkin-lint.xml check-flake8.xml
           check-complexity.xml ros2.xml ros2-kilted.xml demo-ros2-kilted.xml)
 # The ROS 2 lane: every ROS 2 test on Jazzy; then Kilted's set-up, its harness and successor tests and its demo test
 # (on a ROS 2 domain of its own: Jazzy's demo test runs among the system tests). Output: ros2.out, then ros2-kilted.out.
 ros2_lane() {
-  local status=0
-  bash tools/ros2/run.sh python3 -m pytest test/ros2 -q -p no:cacheprovider -W ignore::DeprecationWarning \
-    --junitxml="$RESULTS_DIR/ros2.xml" > "$RESULTS_DIR/ros2.out" 2>&1 || status=1
+  local status=0 colcon
+  # doc/ros2.md's colcon build beside Jazzy's tests (niced: they time their nodes; output ros2-colcon.out), then the
+  # test of the node from that build, whose own call of tools/ros2/colcon_build.sh finds little left to do.
+  nice -n 10 bash tools/ros2/colcon_build.sh > "$RESULTS_DIR/ros2-colcon.out" 2>&1 &
+  colcon=$!
+  {
+    bash tools/ros2/run.sh python3 -m pytest test/ros2 -q -p no:cacheprovider -W ignore::DeprecationWarning \
+      --ignore="$colcon_test" --junitxml="$RESULTS_DIR/ros2.xml" || status=1
+    wait "$colcon" || tail -n 40 "$RESULTS_DIR/ros2-colcon.out"
+    tail -n 1 "$RESULTS_DIR/ros2-colcon.out"
+    bash tools/ros2/run.sh python3 -m pytest "$colcon_test" -q -p no:cacheprovider -W ignore::DeprecationWarning \
+      --junitxml="$RESULTS_DIR/ros2-colcon.xml" || status=1
+  } > "$RESULTS_DIR/ros2.out" 2>&1
   {
     CSSR_ROS2_DISTRO=kilted bash tools/ros2/setup.sh &&
       { CSSR_ROS2_DISTRO=kilted bash tools/ros2/run.sh python3 -m pytest test/ros2/test_harness_ros2.py \
@@ -66,13 +79,14 @@ ros2_lane() {
   } > "$RESULTS_DIR/ros2-kilted.out" 2>&1 || status=1
   return "$status"
 }
+expected+=(ros2-colcon.xml)
 # The ROS 2 tests run beside the rostests (both mostly wait for their nodes), each on a ROS 2 domain of its own.
 if [ "$ros2_status" = 0 ]; then
   log_step "ROS 2 tests (beside the rostests; output: $RESULTS_DIR/ros2.out and ros2-kilted.out)"
   ros2_lane &
   ros2_tests=$!
 else
-  for name in ros2 ros2-kilted demo-ros2-kilted; do
+  for name in ros2 ros2-colcon ros2-kilted demo-ros2-kilted; do
     python3 tools/check_to_junit.py --skipped "$(tail -n 1 "$RESULTS_DIR/ros2-setup.out")" "$RESULTS_DIR/$name.xml" \
       "${name//-/_}_tests"
   done
@@ -105,9 +119,9 @@ for job in "${soaks[@]}"; do cat "$RESULTS_DIR/$(basename "$job" .py).line"; don
 
 if [ -n "$ros2_tests" ]; then
   if wait "$ros2_tests"; then
-    echo "  test/ros2 (Jazzy; the harness and demo tests on Kilted): ok"
+    echo "  test/ros2 (Jazzy, a colcon build's node among them; the harness and demo tests on Kilted): ok"
   else
-    echo "  test/ros2 (Jazzy; the harness and demo tests on Kilted): FAILED"
+    echo "  test/ros2 (Jazzy, a colcon build's node among them; the harness and demo tests on Kilted): FAILED"
     tail -n 40 "$RESULTS_DIR/ros2.out" "$RESULTS_DIR/ros2-kilted.out"
   fi
 fi

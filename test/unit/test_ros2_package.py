@@ -59,3 +59,49 @@ def test_every_launch_argument_is_documented():
     documentation = (ROOT / "doc" / "ros2.md").read_text()
     arguments = [ast.literal_eval(args[0]) for _, args in launch_calls("DeclareLaunchArgument")]
     assert arguments and all("`%s`" % argument in documentation for argument in arguments)
+
+
+def program_declarations(module: str):
+    """(NODE_NAME, the names of PARAMETERS) of a ROS 2 program's module, read from its source (it imports rclpy)."""
+    tree = ast.parse((ROOT / "src" / "cssr_system" / "ros2" / (module + ".py")).read_text())
+    values = {}
+    for node in tree.body:
+        target = node.targets[0] if isinstance(node, ast.Assign) else getattr(node, "target", None)
+        if isinstance(target, ast.Name) and target.id in ("NODE_NAME", "PARAMETERS") and node.value is not None:
+            values[target.id] = node.value
+    return (ast.literal_eval(values["NODE_NAME"]),
+            {ast.literal_eval(pair.elts[0]) for pair in values["PARAMETERS"].elts})
+
+
+def node_parameter_names(keywords) -> set:
+    (parameters,) = keywords["parameters"].elts
+    return {ast.literal_eval(key) for key in parameters.keys}
+
+
+def test_the_launch_file_gives_each_program_its_name_and_only_parameters_it_declares():
+    """`ros2 launch` cannot run here (no launch or launch_ros on PyPI: doc/ros2.md), so the launch file is read: each
+    node's name and parameters must be those its program declares (use_sim_time is every rclpy node's)."""
+    from cssr_system.animate_behaviour.configuration import KEYS
+    from cssr_system.animate_behaviour.contract import NODE_NAME
+
+    nodes = {ast.literal_eval(keywords["executable"]): keywords for keywords, _ in launch_calls("Node")}
+    defaults = {ast.literal_eval(args[0]): keywords.get("default_value")
+                for keywords, args in launch_calls("DeclareLaunchArgument")}
+    simulator_name, simulator_parameters = program_declarations("simulated_pepper_node")
+    assert ast.literal_eval(nodes["simulated_pepper"]["name"]) == simulator_name
+    assert node_parameter_names(nodes["simulated_pepper"]) <= simulator_parameters | {"use_sim_time"}
+    assert ast.literal_eval(defaults["node_name"]) == NODE_NAME
+    animate_parameters = set(KEYS) | {"configFile", "logFile", "use_sim_time"}  # src/cssr_system/ros2/parameters.py
+    assert node_parameter_names(nodes["animate_behaviour"]) <= animate_parameters
+    assert {"configFile", "platform", "actuation"} <= node_parameter_names(nodes["animate_behaviour"])
+
+
+def test_the_launch_file_s_default_configuration_file_is_the_shipped_one():
+    (default,) = [keywords["default_value"] for keywords, args in launch_calls("DeclareLaunchArgument")
+                  if ast.literal_eval(args[0]) == "config_file"]
+    # default_value=default_file, assigned PathJoinSubstitution([FindPackageShare("cssr_system"), "config", ...]).
+    (assigned,) = [node.value for node in ast.walk(ast.parse(LAUNCH_FILE.read_text()))
+                   if isinstance(node, ast.Assign) and getattr(node.targets[0], "id", None) == default.id]
+    share, *parts = assigned.args[0].elts
+    assert ast.literal_eval(share.args[0]) == "cssr_system"
+    assert ROOT.joinpath(*map(ast.literal_eval, parts)).is_file(), "installed as share/cssr_system/config/..."

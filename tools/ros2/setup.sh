@@ -20,6 +20,8 @@ venv="$ROS2_VENV"
 build_dir="$ros2_dir/build"
 install_dir="$ROS2_INSTALL"
 requirements="$tools_dir/requirements-$CSSR_ROS2_DISTRO.txt"
+# colcon, in the same venv: for tools/ros2/colcon_build.sh and doc/ros2.md's recipe.
+colcon_requirements="$tools_dir/requirements-colcon.txt"
 # None needs another one built first, so each has a stamp of its own.
 packages=(control_msgs naoqi_bridge_msgs cssr_system_interfaces dec_interfaces cssr_system)
 
@@ -82,20 +84,20 @@ python=$(pick_python) || exit 3
 mkdir -p "$build_dir" "$install_dir"
 
 # The venv: made anew whenever the requirements, the Python or this script change.
-venv_stamp=$( { cat "$requirements" "$tools_dir/setup.sh"; echo "$python"; "$python" --version; } | sha256sum |
-  cut -c1-32)
+venv_stamp=$( { cat "$requirements" "$colcon_requirements" "$tools_dir/setup.sh"; echo "$python"
+                "$python" --version; } | sha256sum | cut -c1-32)
 if [ "$(cat "$venv/.stamp" 2>/dev/null)" != "$venv_stamp" ]; then
   log_step "ROS 2 $CSSR_ROS2_DISTRO venv in $venv (Python $("$python" -c 'import platform
 print(platform.python_version())'))"
-  # Builds made with another venv would name its files.
-  rm -rf "$venv" "$build_dir" "$install_dir"
+  # Builds made with another venv would name its files (tools/ros2/colcon_build.sh's too).
+  rm -rf "$venv" "$build_dir" "$install_dir" "$ros2_dir/colcon"
   mkdir -p "$build_dir" "$install_dir"
   log="$build_dir/pip.log"
   "$python" -m venv "$venv" > "$log" 2>&1 || fail "$log" "python -m venv failed"
   # --no-deps: the requirements are the whole pinned closure, so pip need not resolve anything, and `pip check`
-  # says if one is missing.
-  "$venv/bin/python3" -m pip install --no-deps --no-input -r "$requirements" >> "$log" 2>&1 ||
-    fail "$log" "pip install failed"
+  # says if one is missing or if two pins disagree (colcon-core's setuptools range and our setuptools).
+  "$venv/bin/python3" -m pip install --no-deps --no-input -r "$requirements" -r "$colcon_requirements" \
+    >> "$log" 2>&1 || fail "$log" "pip install failed"
   "$venv/bin/python3" -m pip check >> "$log" 2>&1 || fail "$log" "pip check found a missing or wrong package"
   # The wheels were built in a manylinux container: the CMake files of their Python bindings name that
   # container's Python headers and numpy headers, and CMake stops on paths that do not exist. Ours instead.
