@@ -52,6 +52,11 @@ FIRST_GOAL_BOUND = 1.0  # s from the enable request to each part's first goal (t
 SIMULATOR_PARTS = {"RArm", "LArm", "Leg"}  # the simulator platform has no hand controllers
 ARM = PARTS["RArm"].joints
 TEST_CLIENT = "/ros2_test_client"  # the test's node, as the graph names it
+# Joints off their centres (0.03 to 0.2 rad, both sides), as another node may leave them, as the ROS 1 ease-in rostests
+# start them; every joint enters its band within EASE_IN_BOUND of the enable (README: "Motion styles").
+OFF_CENTRE = ("KneePitch=0.0022, HipPitch=-0.2107, HipRoll=0.19234, RShoulderRoll=-0.29664, RElbowRoll=0.50664, "
+              "RWristYaw=0.14321, RHand=0.46608")
+EASE_IN_BOUND = 3.0  # s
 
 
 def start(module: str, *parameters: str, domain: int = DOMAIN) -> subprocess.Popen:
@@ -162,7 +167,8 @@ def trajectory_run(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def joint_angles_run(tmp_path_factory):
-    run = Run(tmp_path_factory.mktemp("joint_angles"), ("platform:=robot", "driver:=naoqi_driver"),
+    run = Run(tmp_path_factory.mktemp("joint_angles"), ("platform:=robot", "driver:=naoqi_driver",
+                                                        "initial_positions:=" + OFF_CENTRE),
               ("platform:=robot", "behaviour:=all", "actuation:=joint_angles", "motionStyle:=breathing",
                "yieldQuietTime:=0.5"), JOINT_ANGLES_DOMAIN)
     yield run
@@ -318,6 +324,36 @@ def test_a_bad_configuration_gives_the_ros_1_line_and_exit_status(tmp_path):
     _, stderr = process.communicate(timeout=START_TIMEOUT)
     assert process.returncode == 1
     assert stderr.strip().splitlines() == ["animateBehaviour: invalid configuration: %s" % expected.value]
+
+
+def entered_band(samples, joint: str, lower: float, upper: float) -> float:
+    """When `joint` entered [lower, upper] for good, of `samples` (stamp, positions by joint)."""
+    outside = [stamp for stamp, positions in samples if not lower - 1e-3 <= positions[joint] <= upper + 1e-3]
+    return max(outside, default=samples[0][0])
+
+
+def test_breathing_through_joint_angles_eases_every_joint_into_its_band_from_off_centre(joint_angles_run):
+    run, client = joint_angles_run, joint_angles_run.client
+    enabled = time.time()
+    assert client.activate("enabled") == contract.REPLY_SUCCESS
+    time.sleep(EASE_IN_BOUND + 1.0)
+    samples = [(message.header.stamp.sec + 1e-9 * message.header.stamp.nanosec,
+                dict(zip(message.name, message.position))) for message in list(client.joint_states)]
+    samples = [(stamp, positions) for stamp, positions in samples if stamp >= enabled]
+    first_goals = {}
+    for entry in run.entries(contract.GOAL_SENT, enabled):
+        first_goals.setdefault(entry.fields["part"], entry.fields)
+    checked = 0
+    for name in [pair.split("=")[0] for pair in OFF_CENTRE.split(", ")]:
+        goal = next((fields for fields in first_goals.values() if name in fields["joints"]), None)
+        if goal is None or not goal["moving"][goal["joints"].index(name)]:
+            continue  # a part or joint the behaviour does not move
+        index = goal["joints"].index(name)
+        assert entered_band(samples, name, goal["lower"][index], goal["upper"][index]) - enabled <= EASE_IN_BOUND, name
+        checked += 1
+    assert checked >= 5, first_goals
+    assert client.activate("disabled") == contract.REPLY_SUCCESS
+    time.sleep(1.0)
 
 
 def test_joint_angles_stream_in_bands_and_yield_to_another_nodes_calls(joint_angles_run):
