@@ -405,28 +405,30 @@ class LoggedYield(NamedTuple):
     """A part's yield to another node's motion, from the node's log (epochs)."""
 
     start: float  # part_yielded
-    end: Optional[float]  # the part's next part_resumed; None: none came
+    end: Optional[float]  # the part's next part_resumed, or the node's behaviour_ended or node_stopped; None: none
     part: str  # key of joint_table.PARTS (or the wheels')
     caller: str  # the other node
     kind: str  # what it sent: goal, command, twist or joint_angles
 
 
+YIELD_ENDS = (contract.PART_RESUMED, contract.BEHAVIOUR_ENDED, contract.NODE_STOPPED)
+
+
 def yields_from_log(entries: Iterable[Any], since: Optional[float] = None) -> List[LoggedYield]:
-    """Each ``part_yielded`` of the node's log entries with the part's next ``part_resumed``: from the yield on,
-    another node's motion runs on the part."""
+    """Each ``part_yielded`` of the node's log entries, to the part's next ``part_resumed`` (or the node's
+    ``behaviour_ended`` or ``node_stopped``: a disabled node yields no more): from the yield on, another node's motion
+    runs on the part."""
     found: List[LoggedYield] = []
     for entry in entries:
-        if entry.event not in (contract.PART_YIELDED, contract.PART_RESUMED) or \
-                not _in_window(entry.timestamp, since, None):
+        if entry.event not in (contract.PART_YIELDED,) + YIELD_ENDS or not _in_window(entry.timestamp, since, None):
             continue
-        epoch, part = entry.timestamp.timestamp(), str(entry.fields.get("part", ""))
+        epoch, part = entry.timestamp.timestamp(), entry.fields.get("part")
         if entry.event == contract.PART_YIELDED:
-            found.append(LoggedYield(epoch, None, part, str(entry.fields.get("caller", "")),
+            found.append(LoggedYield(epoch, None, str(part), str(entry.fields.get("caller", "")),
                                      str(entry.fields.get("kind", ""))))
             continue
-        open_yields = [index for index, logged in enumerate(found) if logged.part == part and logged.end is None]
-        if open_yields:
-            found[open_yields[-1]] = found[open_yields[-1]]._replace(end=epoch)
+        found = [logged._replace(end=epoch) if logged.end is None and part in (None, logged.part) else logged
+                 for logged in found]
     return found
 
 
