@@ -57,7 +57,9 @@ def write_log(path, epoch):
                 (4.5, contract.PART_YIELDED, dict(part="Leg", controller="c", caller=OTHER, kind="joint_angles")),
                 (5.5, contract.PART_RESUMED, dict(part="Leg", controller="c", caller=OTHER, seconds=1.0)),
                 (6.0, contract.PART_RESUMED, dict(part="RArm", controller="c", caller=OTHER, seconds=2.0)),
-                (6.0, contract.GOAL_SENT, dict(part="RArm", purpose="animate"))):
+                (6.0, contract.GOAL_SENT, dict(part="RArm", purpose="animate")),
+                (7.0, contract.PART_YIELDED, dict(part="LArm", controller="c", caller=OTHER, kind="command")),
+                (8.0, contract.BEHAVIOUR_ENDED, dict(reason="disabled", home=True))):
             clock[0] = epoch + offset
             log.write(event, **fields)
     return read_log(path)
@@ -68,7 +70,8 @@ def test_the_log_tells_the_nodes_goals_and_its_yields(tmp_path):
     assert goals_sent_from_log(entries) == [(1001.0, "RArm"), (1006.0, "RArm")]
     assert goals_sent_from_log(entries, since=1002.0) == [(1006.0, "RArm")]
     assert yields_from_log(entries) == [LoggedYield(1004.0, 1006.0, "RArm", OTHER, "goal"),
-                                        LoggedYield(1004.5, 1005.5, "Leg", OTHER, "joint_angles")]
+                                        LoggedYield(1004.5, 1005.5, "Leg", OTHER, "joint_angles"),
+                                        LoggedYield(1007.0, 1008.0, "LArm", OTHER, "command")]  # ends at disable
 
 
 def test_a_recorder_given_references_draws_the_nodes_line_and_marks_the_other_nodes_goal(tmp_path):
@@ -84,4 +87,4 @@ def test_a_recorder_given_references_draws_the_nodes_line_and_marks_the_other_no
                                                                                 & (commanded.times < 6.0))]))
     assert numpy.all(numpy.isfinite(commanded.positions[(commanded.times >= 1.0) & (commanded.times < 4.0)]))
     # The other node's goal is marked; its setAngles calls are marked from the calls themselves, not from the log.
-    assert recording.marks == (Mark(4.0, 6.0, OTHER + ": goal", "RArm"),)
+    assert recording.marks == (Mark(4.0, 6.0, OTHER + ": goal", "RArm"), Mark(7.0, 8.0, OTHER + ": command", "LArm"))
