@@ -20,7 +20,7 @@ pytest.importorskip("naoqi_bridge_msgs.msg")
 from action_msgs.msg import GoalStatus, GoalStatusArray  # noqa: E402 (after the skips)
 from builtin_interfaces.msg import Duration  # noqa: E402
 from control_msgs.action import FollowJointTrajectory  # noqa: E402
-from control_msgs.msg import JointTolerance  # noqa: E402
+from control_msgs.msg import JointTolerance, JointTrajectoryControllerState  # noqa: E402
 from naoqi_bridge_msgs.msg import JointAnglesWithSpeed  # noqa: E402
 from rclpy.action import ActionClient  # noqa: E402
 from rclpy.context import Context  # noqa: E402
@@ -286,6 +286,42 @@ def test_the_joint_trajectory_topic_moves_the_controllers_joints(pepper):
     publisher.publish(JointTrajectory(joint_names=list(HEAD), points=[
         JointTrajectoryPoint(positions=list(target), time_from_start=duration(0.3))]))
     assert peer.reaches(HEAD, target)
+
+
+# The fields of ros-controls/control_msgs' JointTrajectoryControllerState (jazzy branch, 5.x; the same in 6.x): the
+# same names and types give the same type on the wire, so a recorder of the real controller reads ours.
+CONTROLLER_STATE_FIELDS = dict(
+    header="std_msgs/Header", joint_names="sequence<string>",
+    **{name: "trajectory_msgs/JointTrajectoryPoint" for name in ("reference", "feedback", "error", "output")},
+    multi_dof_joint_names="sequence<string>",
+    **{"multi_dof_" + name: "trajectory_msgs/MultiDOFJointTrajectoryPoint"
+       for name in ("reference", "feedback", "error", "output")},
+    speed_scaling_factor="double")
+
+
+def test_each_controller_publishes_its_reference_as_joint_trajectory_controller_does(pepper):
+    assert JointTrajectoryControllerState.get_fields_and_field_types() == CONTROLLER_STATE_FIELDS
+    _, peer = pepper
+    states = []
+    peer.node.create_subscription(JointTrajectoryControllerState, NAMESPACE + "/Pelvis_controller/controller_state",
+                                  states.append, 50)
+    peer.spin_until(lambda: states, START_TIMEOUT, "the controller's state")
+    start = states[-1].reference.positions[LEG.index("HipPitch")]
+    target = (0.0, start - 0.2, 0.0)
+    peer.result(peer.send("Pelvis_controller", trajectory_goal(LEG, target, 0.5)))
+    peer.spin_for(0.2)
+    state = states[-1]
+    assert tuple(state.joint_names) == LEG and state.speed_scaling_factor == 1.0
+    assert tuple(state.reference.positions) == pytest.approx(target, abs=1e-9)
+    passed = [message.reference.positions[1] for message in states if target[1] < message.reference.positions[1]
+              < start - 0.01]
+    assert len(passed) >= 10, "the reference moves with the trajectory, at every update (50 Hz)"
+    for message in states:
+        assert list(message.error.positions) == pytest.approx(
+            [reference - feedback for reference, feedback in zip(message.reference.positions,
+                                                                 message.feedback.positions)], abs=1e-12)
+    stamps = [message.header.stamp.sec + message.header.stamp.nanosec * 1e-9 for message in states]
+    assert stamps == sorted(stamps)
 
 
 def test_limit_violations_are_latched(pepper):

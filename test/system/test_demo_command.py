@@ -1,6 +1,6 @@
 """The README's demo command (tools/demo.sh, i.e. `make demo`) with short durations: a plain run, a run with
-GESTURE=1 and a run stopped with Ctrl-C. Each leaves a valid PNG and recording, and no process it started
-survives."""
+GESTURE=1 and a run stopped with Ctrl-C. Each leaves a valid PNG and recording, a completed one Pepper's figure (an
+animated GIF) beside them, and no process it started survives."""
 import os
 import signal
 import socket
@@ -107,9 +107,24 @@ def status_lines(output):
     return [line for line in output.splitlines() if " s  enabled " in line or " s  disabled " in line]
 
 
-def check_plot_and_recording(output, output_dir):
+def check_figure(lines, gif_path):
+    """Pepper's figure, the last step of a completed demo: an animated GIF at `gif_path`, named among `lines`."""
+    assert gif_path in lines, "the figure's path is not printed after the plot's:\n" + "\n".join(lines)
+    from PIL import Image  # the figure's own dependency (doc/figure.md)
+    with Image.open(gif_path) as image:
+        assert image.format == "GIF" and image.n_frames > 10
+
+
+def check_plot_and_recording(output, output_dir, figure=True):
+    """The plot, the recording and (`figure`: the demo completed) the figure, printed in that order at the end."""
     png_path = os.path.join(str(output_dir), "animation.png")
-    assert "plot      " + png_path in output.splitlines()[-1], "the plot's path is not the last line:\n" + output
+    lines = output.splitlines()
+    plotted = [index for index, line in enumerate(lines) if "plot      " + png_path in line]
+    assert plotted, "the plot's path is not printed:\n" + output
+    if figure:
+        check_figure(lines[plotted[-1] + 1:], os.path.join(str(output_dir), "animation.gif"))
+    else:
+        assert plotted[-1] == len(lines) - 1, "the plot's path is not the last line:\n" + output
     with open(png_path, "rb") as image:
         content = image.read()
     assert content.startswith(PNG_SIGNATURE)
@@ -171,7 +186,7 @@ def test_ctrl_c_disables_the_node_first_stops_everything_and_still_plots(tmp_pat
     assert stop_time < 30.0, "the demo took %.0f s to stop after Ctrl-C" % stop_time
     assert "animateBehaviour disabled" in output
 
-    recording = check_plot_and_recording(output, tmp_path)
+    recording = check_plot_and_recording(output, tmp_path, figure=False)  # no figure after Ctrl-C
     assert [state for _, state in recording.activations] == ["enabled", "disabled"]
     assert recording.activations[1][0] - recording.activations[0][0] < 20.0  # long before the 60 s
 
@@ -219,6 +234,7 @@ def test_demo_with_two_robots_enables_each_on_its_own_and_plots_both(tmp_path):
     for robot in recordings:  # each node commanded its own robot only, and wrote its own log file
         commanded = recordings[robot].commanded
         assert commanded is not None and commanded.source == "/%s/animateBehaviour" % robot
+        check_figure(output.splitlines(), os.path.join(str(tmp_path), robot, "animation.gif"))  # one per robot
     with open(os.path.join(str(tmp_path), "robots.png"), "rb") as image:
         assert image.read().startswith(PNG_SIGNATURE)
 

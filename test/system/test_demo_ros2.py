@@ -1,7 +1,8 @@
-"""The demo on ROS 2 (`make demo ROS=2`, tools/demo_ros2.sh) with short durations: a plain run, and a run stopped
-with Ctrl-C. Each leaves a valid PNG and a recording whose joints moved within the bands of the node's log, and no
-process it started survives. On the distribution CSSR_ROS2_DISTRO names (tools/ros2/env.sh: Jazzy by default). Skipped
-only where tools/ros2/setup.sh cannot make the ROS 2 environment."""
+"""The demo on ROS 2 (`make demo ROS=2`, tools/demo_ros2.sh) with short durations: a plain run, a run with another
+node's gesture, and a run stopped with Ctrl-C. Each leaves a valid PNG and a recording whose joints moved within the
+bands of the node's log, with the node's commanded lines as on ROS 1, a completed one Pepper's figure beside them,
+and no process it started survives. On the distribution CSSR_ROS2_DISTRO names (tools/ros2/env.sh: Jazzy by
+default). Skipped only where tools/ros2/setup.sh cannot make the ROS 2 environment."""
 import os
 import subprocess
 import uuid
@@ -9,7 +10,7 @@ import uuid
 import numpy
 import pytest
 
-from test_demo_command import PNG_SIGNATURE, run_in_process_group, status_lines
+from test_demo_command import check_plot_and_recording, run_in_process_group, status_lines
 
 REPO_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 DEMO_DURATION = 6
@@ -49,16 +50,6 @@ def run_demo(command, output_dir, interrupt_after=None, **options):
     return run_in_process_group(command, environment, interrupt_after, RUN_TIMEOUT, "CSSR_DEMO_TEST_RUN=" + run)
 
 
-def check_plot_and_recording(output, output_dir):
-    png_path = os.path.join(str(output_dir), "animation.png")
-    assert "plot      " + png_path in output.splitlines()[-1], "the plot's path is not the last line:\n" + output
-    with open(png_path, "rb") as image:
-        content = image.read()
-    assert content.startswith(PNG_SIGNATURE) and len(content) > 30 * 1024
-    from cssr_system.recording.recording import read_recording
-    return read_recording(os.path.join(str(output_dir), "animation.json"))
-
-
 def log_entries(output_dir):
     from cssr_system.animate_behaviour.event_log import read_log
     return read_log(os.path.join(str(output_dir), "animateBehaviourLogFile.log"))
@@ -92,6 +83,18 @@ def test_the_ros2_demo_runs_moves_within_the_bands_of_the_log_and_plots(ros2_env
     assert {"RShoulderPitch", "LShoulderPitch"} <= set(moved), "joints that moved: %s" % moved
     assert heading_excess(recording) <= BAND_TOLERANCE
 
+    # What the node commanded, as on ROS 1 (there from its goals; here from the controllers' references).
+    commanded = recording.commanded
+    assert commanded is not None and commanded.source == "/animateBehaviour", "no commanded lines"
+    assert {"RShoulderPitch", "LShoulderPitch", "HipPitch"} <= set(commanded.joint_names)
+    before = commanded.times < enabled_at - 0.5  # the log stamps the enable when the node replies
+    assert numpy.any(before) and numpy.all(numpy.isnan(commanded.positions[before]))
+    after = commanded.times > enabled_at + 0.5
+    assert numpy.all(numpy.isfinite(commanded.positions[after]))
+    # The simulated Pepper reports the commanded motion (velocity_report commanded): the lines lie on the joints.
+    columns = [recording.joint_names.index(name) for name in commanded.joint_names]
+    assert numpy.max(numpy.abs(commanded.positions[after] - recording.positions[after][:, columns])) < 0.005
+
 
 def test_ctrl_c_disables_the_node_first_stops_everything_and_still_plots(ros2_environment, tmp_path):
     status, output, stop_time = run_demo(["bash", os.path.join(REPO_DIR, "tools", "demo.sh")], tmp_path,
@@ -101,7 +104,7 @@ def test_ctrl_c_disables_the_node_first_stops_everything_and_still_plots(ros2_en
     assert stop_time < 30.0, "the demo took %.0f s to stop after Ctrl-C" % stop_time
     assert "animateBehaviour disabled" in output
 
-    recording = check_plot_and_recording(output, tmp_path)
+    recording = check_plot_and_recording(output, tmp_path, figure=False)  # no figure after Ctrl-C
     assert [state for _, state in recording.activations] == ["enabled", "disabled"]
     assert recording.activations[1][0] - recording.activations[0][0] < 20.0  # long before the 60 s
     events = [(entry.event, entry.fields) for entry in log_entries(tmp_path)]
@@ -119,3 +122,17 @@ def test_the_ros2_demo_with_a_gesture_yields_to_it_and_the_gesture_succeeds(ros2
     assert any("yielding: right arm to /animateBehaviourDemoGesture" in line for line in status_lines(output)), output
     ended = [line for line in output.splitlines() if "gesture on the right arm ended" in line]
     assert len(ended) == 1 and ended[0].rstrip().endswith("SUCCEEDED"), output
+
+    # The node's commanded right arm stops where the gesture begins, which is marked.
+    recording = check_plot_and_recording(output, tmp_path)
+    enabled_at = recording.activations[0][0]
+    assert [(mark.part, mark.label) for mark in recording.marks] == [("RArm", "/animateBehaviourDemoGesture: goal")]
+    mark = recording.marks[0]
+    assert DEMO_DURATION / 2.0 - 0.5 < mark.start - enabled_at < DEMO_DURATION / 2.0 + 1.5  # half-way
+    commanded = recording.commanded
+    right, left = (commanded.joint_names.index(name) for name in ("RShoulderPitch", "LShoulderPitch"))
+    during = (commanded.times > mark.start + 0.1) & (commanded.times < mark.start + 3.5)
+    assert numpy.all(numpy.isnan(commanded.positions[during, right]))
+    assert numpy.all(numpy.isfinite(commanded.positions[during, left]))
+    assert numpy.all(numpy.isfinite(commanded.positions[(commanded.times > enabled_at + 0.5)
+                                                        & (commanded.times < mark.start - 0.1), right]))

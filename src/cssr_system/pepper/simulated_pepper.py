@@ -275,6 +275,14 @@ class ControllerUpdate(NamedTuple):
                 "actual": dict(positions=actual.positions.tolist(), velocities=actual.velocities.tolist()),
                 "error": dict(positions=error.positions.tolist(), velocities=error.velocities.tolist())}
 
+    def state_points(self) -> Dict[str, Dict[str, List[float]]]:
+        """The ``reference``, ``feedback``, ``error`` and ``output`` points of ROS 2's controller_state message
+        (control_msgs/msg/JointTrajectoryControllerState) for this update, as ros2_controllers'
+        joint_trajectory_controller fills them: the output is the position it writes, the desired one."""
+        points = self.feedback_points()
+        return {"reference": points["desired"], "feedback": points["actual"], "error": points["error"],
+                "output": dict(positions=self.desired.positions.tolist())}
+
 
 class _Constraints(NamedTuple):
     """The tolerances one goal is judged by: (joints, 3) arrays of position, velocity and acceleration

@@ -17,6 +17,12 @@ With the joint_angles actuation the node sends setAngles calls to naoqi_driver i
 positions while the last call naming it was the node's; `call_marks` turns other nodes' calls into
 intervals, as `goal_marks` does for goals.
 
+On ROS 2 no third node sees an action's goals (they are service calls), but ros2_controllers'
+joint_trajectory_controller, and the simulated Pepper that behaves like it, publishes its desired state at each
+update (``<controller>/controller_state``, its ``reference``: `ReferenceSample`). `commanded_by_reference` takes that
+as the node's command from the node's first goal to a part (its log's ``goal_sent``) until another node's motion
+makes the part yield (``part_yielded``), and again from the node's next goal.
+
 Goals whose joints are not exactly the controller's, or whose times do not increase, are rejected by
 the controller and skipped here. A goal's trajectory is taken to start when it was received (the
 package's node and the demo's gesture player send a zero stamp: "start now").
@@ -73,6 +79,15 @@ class SentCall(NamedTuple):
     joint_angles: Tuple[float, ...]
     speed: float
     relative: int = 0
+
+
+class ReferenceSample(NamedTuple):
+    """A controller's desired state at one of its updates (ROS 2's controller_state ``reference``)."""
+
+    time: float  # the update's (s, on the recording's clock)
+    part: str  # key of joint_table.PARTS
+    joint_names: Tuple[str, ...]
+    positions: Tuple[float, ...]
 
 
 CALL_GAP = 1.0  # s: another node's calls this close together make one mark
@@ -250,3 +265,48 @@ def call_marks(calls: Iterable[SentCall], exclude_caller: str, gap: float = CALL
         latest[call.caller] = len(marks)
         marks.append(Mark(call.time, call.time, "%s: joint_angles" % call.caller, part))
     return tuple(marks)
+
+
+def _ours(part: str, goals_sent: Iterable[Tuple[float, str]], yielded: Iterable[Tuple[float, str]],
+          times: numpy.ndarray) -> numpy.ndarray:
+    """Whether the node's command is in effect on `part` at `times`: from each of its goals (`goals_sent`: (time,
+    part)) until the part next yields (`yielded`: (time, part))."""
+    switches = sorted([(time, True) for time, key in goals_sent if key == part]
+                      + [(time, False) for time, key in yielded if key == part])
+    if not switches:
+        return numpy.zeros(len(times), dtype=bool)
+    which = numpy.searchsorted([time for time, _ in switches], times, side="right") - 1
+    return (which >= 0) & numpy.array([ours for _, ours in switches])[numpy.maximum(which, 0)]
+
+
+def commanded_by_reference(source: str, samples: Iterable[ReferenceSample], times: Sequence[float],
+                           goals_sent: Iterable[Tuple[float, str]],
+                           yielded: Iterable[Tuple[float, str]] = ()) -> Optional[Commanded]:
+    """The positions `source` commanded at `times`: for every part it sent a goal to (``PARTS`` order), the
+    reference of the part's controller, interpolated between its updates (the desired motion runs on between them, as
+    ROS 1's replayed goals show it) and held after the last; NaN before the first update, before the node's first goal
+    and while the part yields (`_ours`). None when no part the node sent a goal to has a reference sample."""
+    goals_sent, yielded = list(goals_sent), list(yielded)
+    by_part: Dict[str, List[ReferenceSample]] = {}
+    for sample in samples:
+        by_part.setdefault(sample.part, []).append(sample)
+    parts = [key for key in PARTS if key in by_part and any(part == key for _, part in goals_sent)]
+    if not parts:
+        return None
+    times = numpy.asarray(times, dtype=float).reshape(-1)
+    joint_names = tuple(name for key in parts for name in PARTS[key].joints)
+    positions = numpy.full((len(times), len(joint_names)), numpy.nan)
+    column = 0
+    for key in parts:
+        joints = PARTS[key].joints
+        # One sample per update (the same update may be published twice).
+        part_samples = list({sample.time: sample for sample in by_part[key]}.values())
+        part_samples.sort(key=lambda sample: sample.time)
+        sample_times = numpy.array([sample.time for sample in part_samples])
+        values = numpy.array([[dict(zip(sample.joint_names, sample.positions)).get(name, numpy.nan)
+                               for name in joints] for sample in part_samples], dtype=float)
+        rows = (times >= sample_times[0]) & _ours(key, goals_sent, yielded, times)
+        for index in range(len(joints)):
+            positions[rows, column + index] = numpy.interp(times[rows], sample_times, values[:, index])
+        column += len(joints)
+    return Commanded(joint_names, times, positions, source)

@@ -394,6 +394,44 @@ def band_changes_from_log(entries: Iterable[Any], since: Optional[float] = None)
     return changes
 
 
+def goals_sent_from_log(entries: Iterable[Any], since: Optional[float] = None) -> List[Tuple[float, str]]:
+    """(epoch, part key) of every ``goal_sent`` of the node's log entries, whatever its purpose: from each, what the
+    part's controller executes is the node's command."""
+    return [(entry.timestamp.timestamp(), str(entry.fields.get("part", ""))) for entry in entries
+            if entry.event == contract.GOAL_SENT and _in_window(entry.timestamp, since, None)]
+
+
+class LoggedYield(NamedTuple):
+    """A part's yield to another node's motion, from the node's log (epochs)."""
+
+    start: float  # part_yielded
+    end: Optional[float]  # the part's next part_resumed, or the node's behaviour_ended or node_stopped; None: none
+    part: str  # key of joint_table.PARTS (or the wheels')
+    caller: str  # the other node
+    kind: str  # what it sent: goal, command, twist or joint_angles
+
+
+YIELD_ENDS = (contract.PART_RESUMED, contract.BEHAVIOUR_ENDED, contract.NODE_STOPPED)
+
+
+def yields_from_log(entries: Iterable[Any], since: Optional[float] = None) -> List[LoggedYield]:
+    """Each ``part_yielded`` of the node's log entries, to the part's next ``part_resumed`` (or the node's
+    ``behaviour_ended`` or ``node_stopped``: a disabled node yields no more): from the yield on, another node's motion
+    runs on the part."""
+    found: List[LoggedYield] = []
+    for entry in entries:
+        if entry.event not in (contract.PART_YIELDED,) + YIELD_ENDS or not _in_window(entry.timestamp, since, None):
+            continue
+        epoch, part = entry.timestamp.timestamp(), entry.fields.get("part")
+        if entry.event == contract.PART_YIELDED:
+            found.append(LoggedYield(epoch, None, str(part), str(entry.fields.get("caller", "")),
+                                     str(entry.fields.get("kind", ""))))
+            continue
+        found = [logged._replace(end=epoch) if logged.end is None and part in (None, logged.part) else logged
+                 for logged in found]
+    return found
+
+
 SETTING_MARK_WIDTH = 0.3  # s: a change of live settings is an instant; its mark is drawn this wide
 SAME_CHANGE = 0.1  # s: setting_changed lines this close belong to one change
 

@@ -18,17 +18,18 @@ import numpy
 
 from cssr_system.animate_behaviour import console
 from cssr_system.animate_behaviour.event_log import read_log
-from cssr_system.pepper.joint_table import WHEEL_JOINTS
-from cssr_system.recording.commanded import (CancelRequest, GoalResult, Measured, SentCall,
+from cssr_system.core.foreign_motion import JOINT_ANGLES
+from cssr_system.pepper.joint_table import PARTS, WHEEL_JOINTS
+from cssr_system.recording.commanded import (CancelRequest, GoalResult, Measured, ReferenceSample, SentCall,
                                              SentGoal, call_marks, commanded_by, commanded_by_calls,
-                                             controller_pieces, goal_marks)
+                                             commanded_by_reference, controller_pieces, goal_marks)
 from cssr_system.recording.plot import plot_recording
 from cssr_system.recording.recording import (PLOT_FILE_NAME, RECORDING_FILE_NAME,
                                              SETTING_MARK_WIDTH, BandChange, Commanded, Mark,
                                              Recording, RunSetting, activations_from_log,
                                              band_changes_from_log, bands_from_configuration_file,
-                                             bands_from_log, setting_changes_from_log,
-                                             unwrap_heading, write_recording, yaw_from_quaternion)
+                                             bands_from_log, goals_sent_from_log, setting_changes_from_log,
+                                             unwrap_heading, write_recording, yaw_from_quaternion, yields_from_log)
 
 NODE_NAME = "animateBehaviourRecorder"
 DEFAULT_FOLDER = "animateBehaviourDemo"  # in $ROS_HOME
@@ -65,6 +66,7 @@ class RunRecorder:
         self.cancels = []  # type: List[CancelRequest]
         self.results = []  # type: List[GoalResult]
         self.calls = []  # type: List[SentCall]
+        self.references = []  # type: List[ReferenceSample]
 
     def now(self) -> float:
         """Seconds since the recorder started."""
@@ -108,6 +110,12 @@ class RunRecorder:
         with self._lock:
             self.calls.append(call)
 
+    def add_reference(self, stamp: float, part: str, joint_names: Sequence[str], positions: Sequence[float]) -> None:
+        """A controller's reference at its update stamped `stamp` (ROS 2's controller_state)."""
+        with self._lock:
+            self.references.append(ReferenceSample(self.since_start(stamp), part, tuple(joint_names),
+                                                   tuple(positions)))
+
     def has_joint_states(self) -> bool:
         with self._lock:
             return bool(self.rows)
@@ -126,7 +134,7 @@ class RunRecorder:
             heading_times = heading_times[heading_order]
             headings = numpy.array(self.headings, dtype=float)[heading_order]
             goals, cancels, results = list(self.goals), list(self.cancels), list(self.results)
-            calls = list(self.calls)
+            calls, references = list(self.calls), list(self.references)
         first = min(times[0] if len(times) else 0.0, heading_times[0] if len(heading_times) else 0.0)
         since = self.start_epoch - LOG_MARGIN
         activations = tuple((epoch - self.start_epoch - first, state)
@@ -139,11 +147,15 @@ class RunRecorder:
             except ValueError as error:
                 say("no bands in the plot: %s" % error)
         commanded = self._commanded(goals, cancels, calls, (self.joint_names, times, positions))
+        if commanded is None and references:
+            commanded = self._commanded_by_reference(references, times, log_entries, since)
         if commanded is not None:
             commanded = commanded._replace(times=commanded.times - first)
         end = float(times[-1]) if len(times) else 0.0
         marks = tuple(mark._replace(start=mark.start - first, end=mark.end - first)
                       for mark in goal_marks(goals, results, self.node, end) + call_marks(calls, self.node))
+        if references:  # ROS 2: other nodes' goals are unseen; the node's log says when its parts yielded to them
+            marks += self._yield_marks(log_entries, since, first, end - first)
         origin = self.start_epoch + first
         marks += tuple(Mark(epoch - origin, epoch - origin + SETTING_MARK_WIDTH, text)
                        for epoch, text in setting_changes_from_log(log_entries, since))
@@ -167,6 +179,24 @@ class RunRecorder:
         if by_calls is not None:
             return by_calls
         return commanded_by(self.node, controller_pieces(goals, cancels, measured), times)
+
+    def _commanded_by_reference(self, references: List[ReferenceSample], times: numpy.ndarray,
+                                log_entries: List[Any], since: float) -> Optional[Commanded]:
+        """ROS 2, whose goals no recorder sees: the controllers' references while the node's goals ran, as its log
+        tells (`commanded_by_reference`)."""
+        goals_sent = [(epoch - self.start_epoch, part) for epoch, part in goals_sent_from_log(log_entries, since)]
+        yielded = [(logged.start - self.start_epoch, logged.part) for logged in yields_from_log(log_entries, since)]
+        return commanded_by_reference(self.node, references, times, goals_sent, yielded)
+
+    def _yield_marks(self, log_entries: List[Any], since: float, first: float, end: float) -> Tuple[Mark, ...]:
+        """A mark on the part's panel for each yield of the node's log to another node's goal or trajectory, to the
+        part's resume (else `end`, on the recording's clock); other nodes' setAngles calls are marked from the
+        calls themselves."""
+        origin = self.start_epoch + first
+        return tuple(Mark(logged.start - origin, end if logged.end is None else logged.end - origin,
+                          "%s: %s" % (logged.caller, logged.kind), logged.part)
+                     for logged in yields_from_log(log_entries, since)
+                     if logged.part in PARTS and logged.kind != JOINT_ANGLES)
 
     def save(self, output_dir: str) -> int:
         """Write the recording and its plot into `output_dir`; 0 when written, 1 when not."""

@@ -4,7 +4,8 @@
                                             [-p log_file:=FILE] [-p platform:=simulator]
 
 From its start until SIGINT or SIGTERM it records /joint_states, the base heading (odometry of the simulated
-Pepper's platform, ``<namespace>/odom``) and the setAngles calls on the node's JointAngles topic. When stopped, it
+Pepper's platform, ``<namespace>/odom``), each part's controller state (``<controller>/controller_state``) and the
+setAngles calls on the node's JointAngles topic. When stopped, it
 reads the node's log file for the enable and disable instants, the joints' bands and the changes of settings, and
 writes ``animation.json`` and ``animation.png`` into ``output_dir``, printing both paths, as the ROS 1 recorder
 does: both hand their samples to `cssr_system.recording.run_recorder`, which writes them. Exit
@@ -17,17 +18,22 @@ Parameters:
   log_file    the node's log file ("": the node's parameter ``logFile``, resolved as the node resolves it)
   platform    robot or simulator, which decides the odometry topic ("": the node's parameter ``platform``)
 
-What the ROS 1 recording has and this one lacks: on ROS 2 an action's goals, cancels and results travel as service
-calls between a client and the server, not on topics, so no third node sees them. Hence no ``commanded`` line for
-the trajectory actuation (ROS 1 replays the node's goals) and no marks of other nodes' goals. The setAngles calls
-of the joint_angles actuation are a topic, so their ``commanded`` line and other nodes' marks are here; but a ROS 2
-message does not name its publisher: a call counts as the node's only while the node is the topic's one publisher.
+How it knows what the node commanded differs from ROS 1: on ROS 2 an action's goals, cancels and results travel as
+service calls between a client and the server, not on topics, so no third node sees them. The ``commanded`` line of
+the trajectory actuation is therefore each controller's ``reference`` (what joint_trajectory_controller, and the
+simulated Pepper, publish at each update) from the node's first goal to the part, as its log's ``goal_sent`` tells,
+and not while the part yields to another node (its log's ``part_yielded``, until its next goal); the marks of other
+nodes' goals come from those yields (`run_recorder`). The setAngles calls of the joint_angles actuation are a topic,
+so their ``commanded`` line and other nodes' marks are here as on ROS 1; but a ROS 2 message does not name its
+publisher: a call counts as the node's only while the node is the topic's one publisher.
 """
+import functools
 import os
 import sys
 import threading
 from typing import Any, Dict, List, Optional
 
+from control_msgs.msg import JointTrajectoryControllerState
 from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterType
@@ -39,6 +45,7 @@ from sensor_msgs.msg import JointState
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.configuration import PLATFORM_TOPICS_KEYS
 from cssr_system.animate_behaviour.topics import joint_angles_topic
+from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
 from cssr_system.recording.commanded import SentCall
 from cssr_system.recording.recording import SETTING_KEYS, RunSetting, run_setting
@@ -47,7 +54,8 @@ from cssr_system.ros2.program import on_signals, run_node
 from cssr_system.ros2.rclpy_compat import endpoint_names
 from cssr_system.ros2.time_conversion import seconds_of
 
-QUEUE_DEPTH = 100  # /joint_states and odometry come at 50 Hz: a busy second must not drop samples
+QUEUE_DEPTH = 100  # /joint_states, odometry and the controllers' states come at 50 Hz: a busy second must not drop
+STATE_TOPIC = "/controller_state"  # joint_trajectory_controller's, beside its action
 PARAMETERS_PERIOD = 0.5  # s between asks for the node's parameters until it answers
 UNKNOWN_NODE = "another node"
 # The node's parameters that decide its log file, configuration, platform and topics (recording.run_setting).
@@ -116,11 +124,19 @@ class MessageRecorder(RunRecorder):
         self.setting = resolve_setting(values, self._log_file, self._platform, self.node)
         if not self._heading_subscribed:
             self._subscribe_heading(self.setting.platform if self.setting is not None else str(values["platform"]))
-        calls = joint_angles_topic(self.setting.topics if self.setting is not None else {})
+        topics = self.setting.topics if self.setting is not None else {}
+        calls = joint_angles_topic(topics)
         self._subscriptions.append(self._node.create_subscription(JointAnglesWithSpeed, calls, self.on_joint_angles,
                                                                   QUEUE_DEPTH))
-        self._node.get_logger().info("recording /joint_states, {} and the calls on {}; the node's log {}".format(
-            self.heading_topic, calls, self.setting.log_file if self.setting is not None else "unknown"))
+        states = [(key, controller_state_topic(topics[key])) for key in PARTS if key in topics]
+        self._subscriptions += [self._node.create_subscription(JointTrajectoryControllerState, topic,
+                                                               functools.partial(self.on_controller_state, key),
+                                                               QUEUE_DEPTH)
+                                for key, topic in states]
+        self._node.get_logger().info("recording /joint_states, {}, the states of {} controllers and the calls on {}; "
+                                     "the node's log {}".format(self.heading_topic, len(states), calls,
+                                                                self.setting.log_file if self.setting is not None
+                                                                else "unknown"))
 
     def finish(self) -> None:
         """Where the node never answered: its log and configuration as the node would resolve them by default."""
@@ -136,6 +152,9 @@ class MessageRecorder(RunRecorder):
         self.add_orientation(seconds_of(message.header.stamp), orientation.x, orientation.y, orientation.z,
                              orientation.w)
 
+    def on_controller_state(self, part: str, message: JointTrajectoryControllerState) -> None:
+        self.add_reference(seconds_of(message.header.stamp), part, message.joint_names, message.reference.positions)
+
     def on_joint_angles(self, message: JointAnglesWithSpeed) -> None:
         topic = joint_angles_topic(self.setting.topics if self.setting is not None else {})
         self.add_call(SentCall(self.now(), self._publisher_of(topic), tuple(message.joint_names),
@@ -145,6 +164,11 @@ class MessageRecorder(RunRecorder):
         """The topic's one publisher; with several, none of them can be told (ROS 2 does not name a message's)."""
         names = sorted(endpoint_names(self._node.get_publishers_info_by_topic(topic)))
         return names[0] if len(names) == 1 else UNKNOWN_NODE
+
+
+def controller_state_topic(action: str) -> str:
+    """The state topic of the controller that serves `action` (``<controller>/follow_joint_trajectory``)."""
+    return action.rsplit("/", 1)[0] + STATE_TOPIC
 
 
 def record(node: Node, stop: threading.Event) -> int:

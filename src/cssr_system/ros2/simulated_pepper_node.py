@@ -39,6 +39,8 @@ Publishes:
   <ns>/odom           nav_msgs/msg/Odometry, 50 Hz, the base's heading (frame odom, child base_footprint)
   ~/limit_violations  std_msgs/msg/UInt32, transient local: goal point values beyond a joint limit so far
   ~/commanded_joint_states  sensor_msgs/msg/JointState, 50 Hz, with a driver other than ideal: what is commanded
+  <ns>/<Name>_controller/controller_state  control_msgs/msg/JointTrajectoryControllerState, 50 Hz while someone
+                      subscribes: each controller's latest update, its desired state as `reference`
 Stamps and the controllers' time follow the node's clock (ROS time: /clock with use_sim_time).
 SIGINT or SIGTERM: goals still running abort, the node ends with status 0.
 """
@@ -50,6 +52,7 @@ import time
 from typing import Any, Dict, List, NamedTuple, Optional, Sequence, Tuple
 
 from control_msgs.action import FollowJointTrajectory
+from control_msgs.msg import JointTrajectoryControllerState
 from geometry_msgs.msg import Twist
 from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 from nav_msgs.msg import Odometry
@@ -81,6 +84,7 @@ UPDATE_RATE = 50.0  # Hz: stepping the model (its control loop catches up), /joi
 RESULT_TIMEOUT = 10.0
 JOINT_ANGLES_TOPIC = "joint_angles"  # naoqi_driver2's setAngles topic, in the namespace
 TRAJECTORY_TOPIC_NAME = "joint_trajectory"  # ROS 2 joint_trajectory_controller's topic (ROS 1's is "command")
+STATE_TOPIC_NAME = "controller_state"  # its state at each update (ROS 1's is "state", another message)
 # What ros2_controllers' joint_trajectory_controller (Jazzy, Kilted, Rolling) gives a goal that a new goal replaces.
 PREEMPTED_BY_GOAL = "Current goal preempted by new incoming action."
 PREEMPTED_BY_TOPIC = "Current goal preempted by a trajectory on {}."
@@ -149,6 +153,11 @@ def read_settings(node: Node) -> Settings:
 def trajectory_topic(platform, key: str) -> str:
     """`<ns>/<Name>_controller/joint_trajectory`: the controller that serves the action, its ROS 2 topic."""
     return action_namespace(platform, key)[:-len(ACTION_NAME)] + TRAJECTORY_TOPIC_NAME
+
+
+def state_topic(platform, key: str) -> str:
+    """`<ns>/<Name>_controller/controller_state`: the controller's state topic."""
+    return action_namespace(platform, key)[:-len(ACTION_NAME)] + STATE_TOPIC_NAME
 
 
 def seconds(duration) -> float:
@@ -261,6 +270,9 @@ class SimulatedPepperNode:
         self._odometry = Odometry()
         self._odometry.header.frame_id = "odom"
         self._odometry.child_frame_id = "base_footprint"
+        self.state_publishers = {key: node.create_publisher(JointTrajectoryControllerState,
+                                                            state_topic(self.platform, key), 10)
+                                 for key in self.model.controllers}
 
     def _action_server(self, key: str, callback_group) -> ActionServer:
         # Resolved as the node resolves its controllers' names, remapping included: Jazzy's rcl leaves a remapping
@@ -480,9 +492,26 @@ class SimulatedPepperNode:
         if commanded is not None:
             self.commanded_publisher.publish(self._commanded)
         self.odometry_publisher.publish(self._odometry)
+        self._publish_controller_states()
         if self._feedback_period is not None and now >= self._next_feedback:
             self._next_feedback = now + self._feedback_period
             self._publish_feedback()
+
+    def _publish_controller_states(self) -> None:
+        """Each controller's last update, as joint_trajectory_controller publishes it at each of its updates; only
+        while someone listens (a recorder), so the other runs pay nothing for it."""
+        for key, controller in self.model.controllers.items():
+            publisher = self.state_publishers[key]
+            if publisher.get_subscription_count() == 0:
+                continue
+            with self._lock:
+                update = controller.last_update
+                stamp = self._stamp(update.time)
+            message = JointTrajectoryControllerState(
+                joint_names=list(controller.joint_names), speed_scaling_factor=1.0,
+                **{name: JointTrajectoryPoint(**point) for name, point in update.state_points().items()})
+            message.header.stamp = stamp
+            publisher.publish(message)
 
     def _publish_feedback(self) -> None:
         for controller in self.model.controllers.values():
