@@ -113,7 +113,10 @@ def test_configuration_items_are_written_as_in_the_file():
     expected.update(randomSeed="none", homeOnDisable="true", headingBound="0.3", yieldQuietTime="1.0",
                     motionStyle="random", breathsPerMinute="12.0", breathingAmplitude="0.6", actuation="trajectory",
                     intensity="1.0",
-                    moveArms="true", moveHands="true", moveLeg="true", turnBase="true")
+                    moveArms="true", moveHands="true", moveLeg="true", turnBase="true", mode="auto",
+                    listeningRange="0.3", speakingArmRange="0.35,0.4,0.4,0.4,0.4", beatsPerMinute="60.0",
+                    speakingTopic="none", listeningTopic="none", speakingAction="none", listeningAction="none",
+                    conversationTimeout="3.0")
     assert items == expected and list(items) == list(expected)
     items = configuration_items(SHIPPED_DEFAULTS._replace(behaviour=frozenset({"rotation", "body"}), random_seed=7))
     assert items["behaviour"] == "body,rotation" and items["randomSeed"] == "7"
@@ -129,6 +132,16 @@ def test_optional_keys_can_be_set():
     assert (config.random_seed, config.home_on_disable, config.heading_bound, config.yield_quiet_time) == \
         (42, False, 0.5, 2.5)
     assert parse(config_text(extra="randomSeed NONE\n")).random_seed is None
+
+
+def test_the_conversation_keys_are_validated_and_none_watches_nothing():
+    config = parse(config_text(extra="mode Listening\nspeakingAction /tts\nlisteningTopic NONE\n"))
+    assert (config.mode, config.speaking_action, config.listening_topic) == ("listening", "/tts", "")
+    assert parse(config_text(), {"speakingTopic": ""}).speaking_topic == "", "an empty parameter watches nothing"
+    for extra in ("mode talking\n", "beatsPerMinute 200\n", "speakingArmRange 0.3,0.3\n", "listeningRange 2\n",
+                  "speakingTopic a//b\n", "conversationTimeout 0\n"):
+        with pytest.raises(ConfigurationError, match=extra.split()[0]):
+            parse(config_text(extra=extra))
 
 
 # --- round trip -----------------------------------------------------------------------------------------

@@ -5,7 +5,7 @@ import os
 import pytest
 
 from cssr_system.animate_behaviour import contract
-from cssr_system.animate_behaviour.configuration import ConfigurationError, configuration_items
+from cssr_system.animate_behaviour.configuration import KEYS, ConfigurationError, configuration_items
 from cssr_system.animate_behaviour.event_log import LogEntry
 from cssr_system.harness import settings, oracle, checks, report
 from cssr_system.pepper.joint_table import JOINTS, PARTS, centre_of
@@ -336,6 +336,8 @@ def test_settled_since_and_headings_from_commands():
 # ---------------------------------------------------------------------------------------------------
 # Report
 
+WIDEST_KEY = max(len(key) for key in KEYS)  # the report aligns the configuration's values after the longest key
+
 
 def test_report_reads_like_the_harness_report():
     config, expected, observation = synthetic("body")
@@ -345,7 +347,7 @@ def test_report_reads_like_the_harness_report():
             + report.format_test(outcome) + report.format_run_footer([outcome]))
     for expected_text in ("=== New Test Run Started at 2026-11-21 16:52:22 ===",
                           "Test 2: Test Subtle Body Animate behaviour (behaviour body, iteration 1)",
-                          "Configuration Settings:", "selectedRange" + " " * 7 + ": 0.5", "Joint names:",
+                          "Configuration Settings:", "selectedRange".ljust(WIDEST_KEY + 1) + " : 0.5", "Joint names:",
                           'leg: ["HipPitch", "HipRoll", "KneePitch"]', "Home positions",
                           "leg: [-0.1107, -0.00766, 0.03221]", "Bounds of the random positions",
                           "Random positions sent", "Positions observed while enabled (/joint_states)",

@@ -13,10 +13,10 @@ def test_dynamic_reconfigures_names_map_onto_the_configuration_keys_and_back():
     config = default_configuration(intensity=0.4, breaths_per_minute=9.0, motion_style="breathing", move_leg=False)
     values = setting_values(config)
     assert values == {"intensity": 0.4, "tempo": 9.0, "style": "breathing", "arms": True, "hands": True,
-                      "leg": False, "base": True}
+                      "leg": False, "base": True, "mode": "auto"}
     overrides = setting_overrides(dict(values, groups={"name": "Default"}))
     assert overrides == {"intensity": 0.4, "breathsPerMinute": 9.0, "motionStyle": "breathing", "moveArms": True,
-                         "moveHands": True, "moveLeg": False, "turnBase": True}
+                         "moveHands": True, "moveLeg": False, "turnBase": True, "mode": "auto"}
 
 
 def test_changes_are_listed_as_the_configuration_file_writes_them():

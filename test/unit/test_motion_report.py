@@ -5,7 +5,8 @@ import numpy
 import pytest
 
 from cssr_system.animate_behaviour.configuration import shipped_configuration_path
-from cssr_system.motion.report import SAMPLE_RATE, band_entry_times, figures, report
+from cssr_system.motion.report import (SAMPLE_RATE, arm_beats, band_entry_times, figures, mode_targets, modes_report,
+                                       report)
 from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION
 
 TIMES = numpy.arange(0.0, 60.0, 1.0 / SAMPLE_RATE)
@@ -63,3 +64,20 @@ def test_a_joint_enters_its_band_when_it_stays_in_it():
     positions = numpy.array([[0.5, 0.0], [0.3, 0.0], [0.1, 0.0], [-0.3, 0.0], [0.0, 0.0]] + [[0.0, 0.0]] * 4
                             + [[0.0, 0.5]])
     numpy.testing.assert_allclose(band_entry_times(times, positions, [-0.2, -0.2], [0.2, 0.2]), [0.4, numpy.inf])
+
+
+def test_each_mode_meets_its_targets_in_the_default_configuration():
+    """README: "Modes": listening's arms and hands at most 35 % of idle's amplitude, speaking's arms at least 1.5 times
+    idle's with 40 beats a minute or more, neither turning the base; both styles."""
+    tables = modes_report(shipped_configuration_path(), 30.0, 1)
+    for style in ("random", "breathing"):
+        by_mode = {mode: tables[(style, mode)] for mode in ("idle", "listening", "speaking")}
+        assert all(met for _, met in mode_targets(by_mode)), (style, mode_targets(by_mode))
+        idle = {row.part: row for row in by_mode["idle"]}
+        assert idle["base"].beats > 0, "idle turns the base: the table's base figures are measured"
+
+
+def test_arm_beats_count_a_stroke_and_its_return_as_one_beat():
+    times = numpy.arange(0.0, 60.0, 1.0 / SAMPLE_RATE)
+    swing = 0.3 * numpy.sin(2 * numpy.pi * 0.75 * times)  # 45 swings back and forth a minute
+    assert arm_beats(times, numpy.column_stack([swing, swing])) == pytest.approx(45.0, abs=1.0)

@@ -16,8 +16,8 @@ File format (``config/animateBehaviourConfiguration.ini``):
 `KEYS` is the one table of keys: file name, attribute of `Configuration`, required or default, parser
 and what is expected. The 14 keys from ``platform`` to ``legRepeatFactor`` are required; the others
 (``randomSeed``, ``homeOnDisable``, ``headingBound``, ``yieldQuietTime``, ``motionStyle``,
-``breathsPerMinute``, ``breathingAmplitude``, ``actuation``, the live settings) are optional with the
-defaults in `KEYS`. Any other key is an error.
+``breathsPerMinute``, ``breathingAmplitude``, ``actuation``, the live settings, the conversation's keys) are optional
+with the defaults in `KEYS`. Any other key is an error.
 
 Cross-key rules: ``legRepeatFactor <= numPoints``; ``numPointsLeg <= floor(numPoints /
 legRepeatFactor)`` (the leg chunk size); the topic file of the selected platform (``robotTopics`` for
@@ -65,6 +65,13 @@ MOTION_STYLES = ("random", "breathing")  # motion/styles.py builds the goals of 
 # motion streamed to naoqi_driver's JointAngles topic (core/joint_angle_stream.py). Read at start-up.
 ACTUATIONS = ("trajectory", "joint_angles")
 TRAJECTORY_ACTUATION, JOINT_ANGLES_ACTUATION = ACTUATIONS
+# The conversation's modes (README: "Modes"): what the robot does; `auto` follows the conversation by itself.
+MODES = ("idle", "listening", "speaking")
+AUTO_MODE = "auto"
+MODE_SETTINGS = MODES + (AUTO_MODE,)
+# The conversation's sources (README: "Modes"): the key naming each, what its activity means, and what it is.
+CONVERSATION_SOURCES = (("speakingTopic", "speaking", "topic"), ("listeningTopic", "listening", "topic"),
+                        ("speakingAction", "speaking", "action"), ("listeningAction", "listening", "action"))
 # The key holding the topic file of each platform.
 PLATFORM_TOPICS_KEYS: Dict[str, str] = OrderedDict((("robot", "robotTopics"), ("simulator", "simulatorTopics")))
 LARGEST_RANDOM_SEED = 2 ** 32 - 1  # numpy's seeds are 32-bit
@@ -102,6 +109,17 @@ class Configuration(NamedTuple):
     move_hands: bool = True
     move_leg: bool = True
     turn_base: bool = True
+    # The conversation (README: "Modes"): the mode setting (a live setting too), the modes' bands and tempo, the
+    # sources that say when the robot speaks or listens ("" : not watched), and when a silent source counts no more.
+    mode: str = AUTO_MODE
+    listening_range: float = 0.3
+    speaking_arm_range: Tuple[float, float, float, float, float] = (0.35, 0.4, 0.4, 0.4, 0.4)
+    beats_per_minute: float = 60.0
+    speaking_topic: str = ""
+    listening_topic: str = ""
+    speaking_action: str = ""
+    listening_action: str = ""
+    conversation_timeout: float = 3.0
 
 
 class ConfigurationError(ValueError):
@@ -263,6 +281,22 @@ def _file_name(text: str) -> str:
     return text
 
 
+NOT_WATCHED = "none"  # a source key's value (or an empty one) that watches nothing
+
+
+def _source_name(text: str) -> str:
+    """A topic or action name, or "" for none (`none` in any letter case, or an empty parameter)."""
+    if not text or text.lower() == NOT_WATCHED:
+        return ""
+    if not re.match(r"[~/A-Za-z][\w/~]*\Z", text) or "//" in text:
+        raise InvalidValue()
+    return text
+
+
+def _format_source_name(value: object) -> str:
+    return str(value) or NOT_WATCHED
+
+
 def _random_seed(text: str) -> Optional[int]:
     if text.lower() == "none":
         return None
@@ -288,6 +322,7 @@ _ARM_JOINTS = _short_joint_names("RArm")
 _LEG_JOINTS = _short_joint_names("Leg")
 _UNIT = "a number in [0, 1]"
 _AT_LEAST_ONE = "an integer >= 1"
+_SOURCE = "a topic or action name, or none (not watched)"
 _FILE_NAME = "a file name without blanks, relative to the package's data folder or absolute"
 
 
@@ -371,6 +406,29 @@ KEYS: Dict[str, KeySpec] = OrderedDict((spec.name, spec) for spec in (
     _key("turnBase", "turn_base", _boolean, _format_boolean, "true or false",
          "the base turns (where the behaviour has rotation); switched off it stops without turning back",
          default=True),
+    _key("mode", "mode", _one_of(MODE_SETTINGS), str, ", ".join(MODES) + " or " + AUTO_MODE,
+         "what the robot does: idle (waiting), listening (calm, leaning forward), speaking (arm beats); auto "
+         "follows the conversation's sources", default=AUTO_MODE),
+    _key("listeningRange", "listening_range", number_in(0.0, 1.0), _format_number, _UNIT,
+         "while listening, each arm and hand joint's band as a fraction of its idle band", default=0.3),
+    _key("speakingArmRange", "speaking_arm_range", _numbers_in(len(_ARM_JOINTS), 0.0, 1.0), _format_numbers,
+         _list_of_units(_ARM_JOINTS), "while speaking, fraction of each arm joint's full range its beats may span "
+         "(as armMaximumRange)", default=(0.35, 0.4, 0.4, 0.4, 0.4)),
+    _key("beatsPerMinute", "beats_per_minute", number_in(30.0, 120.0), _format_number, "a number in [30, 120]",
+         "while speaking, the arms' and hands' beats per minute", default=60.0),
+    _key("speakingTopic", "speaking_topic", _source_name, _format_source_name, _SOURCE,
+         "a std_msgs/Bool topic that is true while the robot speaks; read when the node starts", default=""),
+    _key("listeningTopic", "listening_topic", _source_name, _format_source_name, _SOURCE,
+         "a std_msgs/Bool topic that is true while the robot listens; read when the node starts", default=""),
+    _key("speakingAction", "speaking_action", _source_name, _format_source_name, _SOURCE,
+         "an action whose active goals mean the robot speaks (text to speech); read when the node starts", default=""),
+    _key("listeningAction", "listening_action", _source_name, _format_source_name, _SOURCE,
+         "an action whose active goals mean the robot listens (speech recognition); read when the node starts",
+         default=""),
+    _key("conversationTimeout", "conversation_timeout", number_in(0.5, 60.0), _format_number,
+         "a number of seconds in [0.5, 60]",
+         "seconds a source may show no sign of life (no message, no publisher) before it counts as silent",
+         default=3.0),
 ))
 
 
@@ -428,7 +486,7 @@ def override_text(value: object) -> str:
 def check_value(spec: KeySpec, text: str, where: str, subject: str, shown: str,
                 problems: List[str]) -> Optional[_Value]:
     """The parsed value, or None after adding the problem to `problems`."""
-    if not text:
+    if not text and spec.parse is not _source_name:  # an empty parameter names no source
         problems.append("{} has no value (expected {})".format(subject, spec.expected))
         return None
     try:

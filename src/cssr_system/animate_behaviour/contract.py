@@ -67,15 +67,18 @@ NODE_STOPPED = "node_stopped"  # reason
 PART_YIELDED = "part_yielded"  # part, controller, caller, kind (goal, command, twist or joint_angles)
 PART_RESUMED = "part_resumed"  # part, controller, caller, seconds (how long it yielded)
 SETTING_CHANGED = "setting_changed"  # key, old, new, by (who asked: README "Live settings")
+# mode, old, by (who or what changed it: a live setting's or the action's caller, the configuration, a source of the
+# conversation), setting (the mode setting: auto, or the mode set by hand); README: "Modes"
+MODE_CHANGED = "mode_changed"
 ANIMATE_GOAL = "animate_goal"  # outcome (accepted: by, duration; succeeded or preempted: animated, reason)
 LOG_EVENTS = (NODE_STARTED, CONFIGURATION_LOADED, CONFIGURATION_INVALID, ACTIVATION_REQUEST, BEHAVIOUR_STARTED,
               BEHAVIOUR_ENDED, GOAL_SENT, GOAL_FINISHED, ANGLES_SENT, CONTROLLER_CONNECTED, CONTROLLER_WAITING,
               CONTROLLER_LOST, BASE_COMMAND,
-              PART_YIELDED, PART_RESUMED, SETTING_CHANGED, ANIMATE_GOAL, ERROR, NODE_STOPPED)
+              PART_YIELDED, PART_RESUMED, SETTING_CHANGED, MODE_CHANGED, ANIMATE_GOAL, ERROR, NODE_STOPPED)
 JOINT_STATES_TOPIC = "joint_states"  # relative: in the node's namespace (/joint_states at the root)
 # Private parameters that are not overrides of configuration keys: the node's own, and dynamic_reconfigure's
 # names of the live settings (live_settings.SETTING_KEYS).
 # actionlib's rate of the animate action's status list, which it searches from the node's private namespace up.
 STATUS_FREQUENCY_PARAMETER = "actionlib_status_frequency"
-NODE_PARAMETERS = ("configFile", "logFile", "intensity", "tempo", "style", "arms", "hands", "leg", "base",
+NODE_PARAMETERS = ("configFile", "logFile", "intensity", "tempo", "style", "arms", "hands", "leg", "base", "mode",
                    STATUS_FREQUENCY_PARAMETER)

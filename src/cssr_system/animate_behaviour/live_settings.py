@@ -10,7 +10,8 @@ from cssr_system.animate_behaviour.configuration import KEYS, Configuration, con
 
 # dynamic_reconfigure's name of each live setting -> its configuration key.
 SETTING_KEYS = {"intensity": "intensity", "tempo": "breathsPerMinute", "style": "motionStyle", "arms": "moveArms",
-                "hands": "moveHands", "leg": "moveLeg", "base": "turnBase"}
+                "hands": "moveHands", "leg": "moveLeg", "base": "turnBase",
+                "mode": "mode"}
 LIVE_KEYS = tuple(SETTING_KEYS.values())
 # Two settings for an interaction (README: "Keeping the robot alive through a visit"), by dynamic_reconfigure's
 # names: moving a little, with the base still, while the robot speaks to someone; moving fully while it waits.
@@ -40,9 +41,11 @@ def moving_parts(config: Configuration) -> List[str]:
     return [name for name, key in PART_SWITCHES if getattr(config, KEYS[key].attribute)]
 
 
-def goal_overrides(parts: Sequence[str], style: str, intensity: float, tempo: float) -> Dict[str, object]:
+def goal_overrides(parts: Sequence[str], style: str, intensity: float, tempo: float,
+                   mode: str = "") -> Dict[str, object]:
     """The configuration overrides an animate goal asks for (the action's fields; README: "The animate action"):
-    the parts it names move, the others are switched off; no part named: every part the behaviour moves.
+    the parts it names move, the others are switched off; no part named: every part the behaviour moves; no mode: the
+mode setting in force stays (the supervisor keeps it).
     Raises ValueError naming what is wrong when a part is unknown; the values themselves are checked as every
     configuration value is, by `load_configuration`."""
     unknown = sorted(set(parts) - {name for name, _ in PART_SWITCHES})
@@ -55,4 +58,6 @@ def goal_overrides(parts: Sequence[str], style: str, intensity: float, tempo: fl
         overrides["motionStyle"] = style
     if tempo:
         overrides["breathsPerMinute"] = float(tempo)
+    if mode:
+        overrides["mode"] = mode
     return overrides

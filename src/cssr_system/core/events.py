@@ -1,7 +1,7 @@
 """Events posted to the supervisor's queue by the service, actionlib's callbacks, the watcher and signals.
 """
 import threading
-from typing import Dict, NamedTuple, Optional, Tuple
+from typing import Dict, FrozenSet, NamedTuple, Optional, Tuple
 
 from cssr_system.animate_behaviour.configuration import Configuration
 
@@ -85,6 +85,7 @@ class Reconfigure(NamedTuple):
     config: Configuration
     topics: Dict[str, str]
     by: str  # who asked: "dynamic_reconfigure", ...
+    changed: Optional[FrozenSet[str]] = None  # the keys the change sets (None: every live key that differs)
 
 
 class AnimateGoal(NamedTuple):
@@ -97,6 +98,19 @@ class AnimateGoal(NamedTuple):
     by: str  # the caller id of the client
     server: object = None  # the action server it came from (None: the node's own animate action)
     home: bool = False  # every part back to its centre, then the goal succeeds
+    sets_mode: bool = False  # the goal names a mode (else the mode setting in force stays)
+
+
+class ConversationHeard(NamedTuple):
+    """A message of a source of the conversation (README: "Modes"): whether the robot speaks (or listens), as it
+    says (a Bool topic's data; an action's status: a goal running)."""
+    source: str  # its configuration key: speakingTopic, listeningTopic, speakingAction or listeningAction
+    active: bool
+
+
+class ConversationPresent(NamedTuple):
+    """A source of the conversation still has a publisher: a sign of life."""
+    source: str
 
 
 class AnimateCancel(NamedTuple):

@@ -28,10 +28,15 @@ def checked_goal(goal, configure: Callable[[dict], tuple]) -> Tuple[tuple, float
     """An animate goal (either front-end's message: the same fields) checked before it is accepted:
     (`configure(overrides)`'s (configuration file, configuration, topics) with the goal's settings over the node's,
     its duration). Raises one of `GoalRefused`, naming what is wrong."""
-    overrides = goal_overrides(list(goal.parts), goal.style, goal.intensity, goal.tempo)
+    overrides = goal_overrides(list(goal.parts), goal.style, goal.intensity, goal.tempo, goal_mode(goal))
     if not goal.duration >= 0.0:
         raise ValueError("duration %r: expected a number of seconds >= 0" % goal.duration)
     return configure(overrides), float(goal.duration)
+
+
+def goal_mode(goal) -> str:
+    """The mode an animate goal sets by hand ("" : it keeps the mode in force). The successor's goals have none."""
+    return str(getattr(goal, "mode", "") or "").strip().lower()
 
 
 def starts_return(now: float, return_duration: float, ends_at: float) -> bool:

@@ -17,10 +17,13 @@ from cssr_system.animate_behaviour.console import console, set_verbose
 from cssr_system.animate_behaviour.contract import NODE_NAME
 from cssr_system.animate_behaviour.live_settings import changed_settings
 from cssr_system.animate_behaviour.topics import WHEELS_KEY
+from cssr_system.animate_behaviour.configuration import AUTO_MODE
 from cssr_system.core.base_stream import BaseStream
+from cssr_system.core.conversation import Conversation, ModeChange
 from cssr_system.core.events import (AnimateCancel, AnimateGoal, ControllerConnected, ControllerLost,
-                                     Disable, Enable, ForeignCommand, ForeignGoal, ForeignJointAngles,
-                                     ForeignResult, ForeignTwist, GoalDone, Reconfigure, Shutdown)
+                                     ConversationHeard, ConversationPresent, Disable, Enable, ForeignCommand,
+                                     ForeignGoal, ForeignJointAngles, ForeignResult, ForeignTwist, GoalDone,
+                                     Reconfigure, Shutdown)
 from cssr_system.core.foreign_motion import GOAL, JOINT_ANGLES
 from cssr_system.core.joint_states import FeedState
 from cssr_system.core.part_stream import PartStream
@@ -28,6 +31,7 @@ from cssr_system.core.motion_stream import StreamState
 from cssr_system.core.session import CANCELLED, DISABLED, DURATION_ELAPSED, HOMED, REPLACED, Session, starts_return
 from cssr_system.core.status import part_rows
 from cssr_system.figure.clearance import close_hand_warnings
+from cssr_system.motion.modes import IDLE, shaped_motions, turns_base
 from cssr_system.motion.styles import MotionStyle
 from cssr_system.motion.waypoints import animated_parts, make_rng, narrow_bands
 from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, PARTS
@@ -84,6 +88,9 @@ class Supervisor:
         self.active_base: Optional[BaseStream] = None
         self.enabled = False
         self.config: Optional[Configuration] = None
+        self._config_file, self._topics = "", {}  # of the configuration in force: a mode switch enables them again
+        # The mode in force and the sources of the conversation (core/conversation.py; README: "Modes").
+        self.conversation = Conversation()
         self.rng = None
         self._band_warnings: List[str] = []  # the robot driver's dead band: what the console last said
         self._judging: List[Tuple[float, GoalDone]] = []  # ends waiting for a measurement, with their deadlines
@@ -96,13 +103,17 @@ class Supervisor:
                           ForeignResult: self._on_foreign_result, ForeignCommand: self._on_foreign_command,
                           ForeignTwist: self._on_foreign_twist, Reconfigure: self._on_reconfigure,
                           ForeignJointAngles: self._on_foreign_joint_angles,
-                          AnimateGoal: self._on_animate_goal, AnimateCancel: self._on_animate_cancel}
+                          AnimateGoal: self._on_animate_goal, AnimateCancel: self._on_animate_cancel,
+                          ConversationHeard: self._on_conversation_heard,
+                          ConversationPresent: self._on_conversation_present}
 
     # -- start-up -----------------------------------------------------------------------------------
-    def set_up(self, config: Configuration, topics: Dict[str, str]) -> None:
+    def set_up(self, config: Configuration, topics: Dict[str, str], sources=()) -> None:
         """Before the thread starts: a stream for every part and the base that `topics` names (their clients and
         publishers connect while the node is still disabled, so the first commands leave at once and none is lost
-        to a connection not yet made), and the console's verbosity and configuration lines."""
+        to a connection not yet made), the console's verbosity and configuration lines, and the conversation's
+        `sources` ((key, resolved name, means) of each the front-end watches)."""
+        self.conversation = Conversation(sources, config.conversation_timeout, config.mode)
         for key, name in topics.items():
             if key in PARTS:
                 self.stream_for(key, name)
@@ -118,7 +129,8 @@ class Supervisor:
 
     def start(self) -> None:
         """Publishes the status (disabled), then runs the event loop on its thread."""
-        self._publish_status(False, self.part_streams(), list(self.bases.values()), self.config, self.settings_by)
+        self._publish_status(False, self.part_streams(), list(self.bases.values()), self.config, self.settings_by,
+                             self.conversation.mode, self.conversation.by)
         self.thread.start()
 
     # -- streams ------------------------------------------------------------------------------------
@@ -164,7 +176,7 @@ class Supervisor:
                 self._handlers[type(event)](event)
             self._tick()
             self._publish_status(self.enabled, self.part_streams(), list(self.bases.values()), self.config,
-                                 self.settings_by)
+                                 self.settings_by, self.conversation.mode, self.conversation.by)
             self._update_feed()
             if self.events.empty():  # nothing waits: what the next goal or a stop starts from, built now
                 for stream in self.part_streams():
@@ -181,6 +193,7 @@ class Supervisor:
         deadlines += [base.next_deadline(now) for base in self.bases.values()]
         deadlines += [self.session.next_deadline(now)] if self.session is not None else []
         deadlines += [now + JUDGE_POLL] if self._judging else []
+        deadlines += [self.conversation.next_deadline()]
         deadlines = [deadline - now for deadline in deadlines if deadline is not None]
         if not deadlines and not self.enabled and self._feed.state == FeedState.RESTING:
             return None  # at rest nothing is due until an event comes: no wake-ups while nothing moves
@@ -195,6 +208,7 @@ class Supervisor:
             base.tick(now)
         if self.session is not None:
             self._tick_session(now)
+        self._follow(self.conversation.look(now))  # a source's time-out
 
     def _update_feed(self) -> None:
         """/joint_states is listened to while a decision needs the measured joints (core/joint_states.py)."""
@@ -227,6 +241,7 @@ class Supervisor:
 
     # -- events -------------------------------------------------------------------------------------
     def _on_enable(self, event: Enable) -> None:
+        self._set_mode(event.config, "configuration")  # every enable starts from the configuration again
         self._enable(event.config_file, event.config, event.topics, "setActivation")
         event.done.set()
         self._end_session(REPLACED, "setActivation")
@@ -249,12 +264,15 @@ class Supervisor:
 
     def _on_reconfigure(self, event: Reconfigure) -> None:
         """Live settings changed: applied at once while enabled (a stream's new goal splices onto its motion),
-        kept for the next enable otherwise."""
+        kept for the next enable otherwise. The mode setting changes only where the change sets it."""
+        sets_mode = "mode" in event.changed if event.changed is not None else \
+            event.config.mode != self.conversation.setting
+        config = self._set_mode(event.config, event.by) if sets_mode else self._keep_mode(event.config)
         if self.enabled:
-            self._enable(event.config_file, event.config, event.topics, event.by)
+            self._enable(event.config_file, config, event.topics, event.by)
         else:
-            self._log_settings(event.config, event.by)
-            self.config = event.config
+            self._log_settings(config, event.by)
+            self.config, self._config_file, self._topics = config, event.config_file, event.topics
 
     # -- the animate action -------------------------------------------------------------------------
     def _on_animate_goal(self, event: AnimateGoal) -> None:
@@ -265,11 +283,12 @@ class Supervisor:
                                self._motions_completed())
         self.log.write(contract.ANIMATE_GOAL, outcome="accepted", by=event.by, duration=event.duration,
                        **({"home": True} if event.home else {}))
+        config = self._set_mode(event.config, event.by) if event.sets_mode else self._keep_mode(event.config)
         if event.home:
             self._home_every_part()
         else:
-            self._enable(event.config_file, event.config, event.topics, event.by)
-        self._sync_settings(event.config)
+            self._enable(event.config_file, config, event.topics, event.by)
+        self._sync_settings(config)
 
     def _on_animate_cancel(self, event: AnimateCancel) -> None:
         if self.session is None or self.session.handle != event.handle:
@@ -371,6 +390,43 @@ class Supervisor:
     def _on_foreign_twist(self, event: ForeignTwist) -> None:
         self.bases[event.topic].foreign_twist(event.caller, event.twist, self.clock())
 
+    # -- the conversation ----------------------------------------------------------------------------
+    def _on_conversation_heard(self, event: ConversationHeard) -> None:
+        self._follow(self.conversation.heard(event.source, event.active, self.clock()))
+
+    def _on_conversation_present(self, event: ConversationPresent) -> None:
+        self._follow(self.conversation.present(event.source, self.clock()))
+
+    def _set_mode(self, config: Configuration, by: str) -> Configuration:
+        """The mode setting of `config`, set by `by`: the mode in force changes with it (applied by the caller)."""
+        self.conversation.timeout = config.conversation_timeout
+        self._note_mode(self.conversation.set_mode(config.mode, by, self.clock()))
+        return config
+
+    def _keep_mode(self, config: Configuration) -> Configuration:
+        """`config` with the mode setting in force (a change of other settings leaves the mode alone)."""
+        self.conversation.timeout = config.conversation_timeout
+        return config._replace(mode=self.conversation.setting)
+
+    def _note_mode(self, change: Optional[ModeChange]) -> None:
+        """A change of the mode in force: one mode_changed line and a console line."""
+        if change is None:
+            return
+        self.log.write(contract.MODE_CHANGED, mode=change.new, old=change.old, by=change.by, setting=change.setting)
+        console.info("%s: mode %s -> %s (%s).", NODE_NAME, change.old, change.new, change.by)
+
+    def _follow(self, change: Optional[ModeChange]) -> None:
+        """The conversation changed the mode in force: a mode set by hand is back to auto (shown as such), and an
+        enabled node's parts splice onto the new mode's motion, as at a live change."""
+        if change is None:
+            return
+        self._note_mode(change)
+        if self.config is not None and self.config.mode != AUTO_MODE:
+            self.config = self.config._replace(mode=AUTO_MODE)
+            self._sync_settings(self.config)
+        if self.enabled and not (self.session is not None and self.session.homing):
+            self._enable(self._config_file, self.config, self._topics, self.settings_by)
+
     # -- enable and disable -------------------------------------------------------------------------
     def _log_settings(self, config: Configuration, by: str) -> None:
         """Each live setting that `config` changes: one setting_changed line, with who asked."""
@@ -385,16 +441,18 @@ class Supervisor:
         if config.random_seed is not None or self.rng is None or reconfigured:
             self.rng = make_rng(config.random_seed)
         self._log_settings(config, by)
-        self.config = config
+        self.config, self._config_file, self._topics = config, config_file, topics
+        mode = self.conversation.mode
         set_verbose(config.verbose_mode)
         self._warn_actuation(config)
         self.log.write(contract.CONFIGURATION_LOADED, file=config_file, items=configuration_items(config))
-        motions = {motion.part: motion for motion in animated_parts(config, [key for key in topics if key in PARTS])}
+        motions = {motion.part: motion for motion in shaped_motions(
+            animated_parts(config, [key for key in topics if key in PARTS]), config, mode)}
         # Parts that no longer move (new behaviour or platform) go home as on disable.
         for stream in list(self.parts.values()):
             if stream.active and (stream.part not in motions or stream.action != topics.get(stream.part)):
                 stream.disable(config.home_on_disable)
-        style = MotionStyle(config, self.rng)
+        style = MotionStyle(config, self.rng, mode)
         # The goals first (console lines take milliseconds each). Sent from this thread, each is planned before the
         # first one leaves, as at a disable: once a goal is on the wire, the controllers' replies come in and their
         # threads take turns with the planning of the other parts. Handed over to a thread that sends them, each goes
@@ -410,9 +468,10 @@ class Supervisor:
         wheels = self._start_base(config, topics, style)
         self.enabled = True
         self.log.write(contract.BEHAVIOUR_STARTED, behaviour=sorted(config.behaviour), platform=config.platform,
-                       parts=sorted(motions), wheels=wheels, reconfigured=reconfigured)
+                       parts=sorted(motions), wheels=wheels, reconfigured=reconfigured, mode=mode)
         console.info("%s: animating %s.", NODE_NAME, ", ".join(sorted(motions) + ([WHEELS_KEY] if wheels else [])))
-        self._warn_narrow_bands(config, list(motions.values()))
+        if mode == IDLE:  # the configuration's bands; listening's are narrow by design (README: "Modes")
+            self._warn_narrow_bands(config, list(motions.values()))
 
     @staticmethod
     def _start_parts(starting: list, config: Configuration) -> None:
@@ -422,11 +481,14 @@ class Supervisor:
         starting.clear()
 
     def _start_base(self, config: Configuration, topics: Dict[str, str], style: MotionStyle) -> Optional[str]:
-        """Starts (or keeps) the base turning when the behaviour asks for rotation; its topic, or None."""
-        wheels = topics.get(WHEELS_KEY) if "rotation" in config.behaviour and config.turn_base else None
+        """Starts (or keeps) the base turning when the behaviour asks for rotation and the mode lets it; its topic, or
+        None."""
+        turns = "rotation" in config.behaviour and config.turn_base and turns_base(style.mode)
+        wheels = topics.get(WHEELS_KEY) if turns else None
         if self.active_base is not None and self.active_base.topic != wheels:
-            # Switched off, the base stops where it is; a new platform's returns as on disable.
-            self.active_base.stop(config.home_on_disable and config.turn_base, self.clock())
+            # Switched off (or listening, speaking), the base stops where it is; a new platform's returns as on
+            # disable.
+            self.active_base.stop(config.home_on_disable and turns, self.clock())
             self.active_base = None
         if wheels is not None:
             self.active_base = self.base_for(wheels)

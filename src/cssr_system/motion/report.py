@@ -20,10 +20,13 @@ from cssr_system.animate_behaviour.configuration import load_configuration, ship
 from cssr_system.figure.clearance import (HAND_MARGIN, band_clearance, largest_quiet_selected_range, per_arm_lines,
                                           recorded_clearances)
 from cssr_system.motion import joint_angle_stream
+from cssr_system.motion.base_rotation import BaseRotationPlanner
+from cssr_system.motion.modes import IDLE, MODES, shaped_motions, turns_base
 from cssr_system.motion.styles import MotionStyle
 from cssr_system.motion.trajectory_timing import to_points
 from cssr_system.motion.waypoints import animated_parts, make_rng
-from cssr_system.pepper.joint_table import DRIVER_JOINT_PRECISION, JOINTS, MIRRORED_JOINTS, PARTS, short_name
+from cssr_system.pepper.joint_table import (DRIVER_JOINT_PRECISION, JOINTS, MIRRORED_JOINTS, PARTS, VELOCITY,
+                                            short_name)
 from cssr_system.pepper.simulated_pepper import NaoqiDcmDriver, NaoqiDriver
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
 
@@ -35,6 +38,12 @@ VISIBLE_AMPLITUDE = 0.02
 EASE_IN_OFFSETS = (0.03, 0.1, 0.2)  # rad off the centres the ease-in is measured from (README: "Motion styles")
 EASE_IN_SECONDS = 8.0  # s of each ease-in run: past the slowest approach, from a joint limit
 BAND_TOLERANCE = 1e-6  # rad: a joint at its band's edge, or held at its centre, is in it
+# A stroke of an arm: its speed (the norm of its joints' velocities) rising above BEAT_SPEED after falling below
+# BEAT_REST; a stroke and its return make a beat (README: "Modes").
+BEAT_SPEED, BEAT_REST = 0.3, 0.15  # rad/s
+# The targets of the modes in the default configuration (README: "Modes"), each part's amplitude against idle's.
+LISTENING_MOST = 0.35  # arms and hands: at most this share of idle's amplitude
+SPEAKING_LEAST, SPEAKING_BEATS = 1.5, 40.0  # arms: at least this many times idle's amplitude, and beats a minute
 TITLES = {"ideal": "ideal controller", "naoqi_dcm": "robot's driver (naoqi_dcm)",
           "joint_angles": "robot via joint_angles (naoqi_driver)"}
 
@@ -73,17 +82,18 @@ class ChainedPlans:
         return self.pieces[max(0, int(numpy.searchsorted(self._starts, t, side="right")) - 1)].sample(t)
 
 
-def planned_run(config, seconds: float, seed: int) -> List[Tuple[Tuple[str, ...], ChainedPlans]]:
-    """(joints, their chained plans) of each part the configuration animates."""
-    style = MotionStyle(config, make_rng(seed))
+def planned_run(config, seconds: float, seed: int, mode: str = IDLE) -> List[Tuple[Tuple[str, ...], ChainedPlans]]:
+    """(joints, their chained plans) of each part the configuration animates, in `mode`."""
+    style = MotionStyle(config, make_rng(seed), mode)
     return [(motion.joints, ChainedPlans(style.planner(motion), motion.part, seconds))
-            for motion in animated_parts(config, tuple(PARTS))]
+            for motion in shaped_motions(animated_parts(config, tuple(PARTS)), config, mode)]
 
 
-def commanded_run(config, seconds: float, seed: int) -> Tuple[numpy.ndarray, Tuple[str, ...], numpy.ndarray]:
+def commanded_run(config, seconds: float, seed: int,
+                  mode: str = IDLE) -> Tuple[numpy.ndarray, Tuple[str, ...], numpy.ndarray]:
     """(times, joint names, commanded positions (times x joints)) of the parts the configuration animates."""
     times = numpy.arange(0.0, seconds, 1.0 / SAMPLE_RATE)
-    plans = planned_run(config, seconds, seed)
+    plans = planned_run(config, seconds, seed, mode)
     columns = [numpy.array([plan.sample(moment)[0] for moment in times]) for _, plan in plans]
     return times, tuple(name for joints, _ in plans for name in joints), numpy.hstack(columns)
 
@@ -247,6 +257,115 @@ def report(config_file: str, seconds: float, seed: int) -> Dict[Tuple[str, str],
     return result
 
 
+class PartFigures(NamedTuple):
+    """What a person sees of one part in a mode (README: "Modes")."""
+
+    part: str
+    amplitude: float  # the mean peak to peak of its moving joints (rad; a hand: its opening); the base: its turns, rad
+    speed: float  # typical speed: the mean RMS speed of its moving joints (rad/s); the base: its peak, rad/s
+    beats: float  # beats a minute (the arms; nan for the other parts)
+
+
+def arm_beats(times: numpy.ndarray, positions: numpy.ndarray) -> float:
+    """Beats a minute of an arm (`positions`: its joints' columns): half its strokes, each its speed rising above
+    BEAT_SPEED after falling below BEAT_REST."""
+    speed = numpy.linalg.norm(numpy.gradient(positions, 1.0 / SAMPLE_RATE, axis=0), axis=1)
+    strokes, resting = 0, True
+    for value in speed:
+        if resting and value > BEAT_SPEED:
+            strokes, resting = strokes + 1, False
+        elif value < BEAT_REST:
+            resting = True
+    return 60.0 * strokes / 2.0 / (times[-1] - times[0])
+
+
+def base_turns(config, seconds: float, seed: int, mode: str) -> PartFigures:
+    """The base's turns a minute in `mode` (where the behaviour has rotation; on a velocity topic): how many, as
+    `amplitude` the largest, as `speed` the peak angular speed."""
+    if not (turns_base(mode) and "rotation" in config.behaviour and config.turn_base):
+        return PartFigures("base", 0.0, 0.0, float("nan"))
+    style = MotionStyle(config, make_rng(seed), mode)
+    planner = BaseRotationPlanner(VELOCITY, config.rot_maximum_range * style.base_speed_share, config.heading_bound,
+                                  make_rng(seed), pause_range=style.base_pauses)
+    elapsed, turns, largest, peak = 0.0, 0, 0.0, 0.0
+    while elapsed < seconds:
+        step = planner.next_step()
+        if step is None:
+            break
+        elapsed, turns = elapsed + step.duration, turns + 1
+        largest, peak = max(largest, abs(step.angle)), max([peak] + [abs(v) for v in step.velocities])
+    return PartFigures("base", largest, peak, 60.0 * turns / seconds)
+
+
+def mode_figures(config, seconds: float, seed: int, mode: str) -> List[PartFigures]:
+    """Each part's figures in `mode` on the ideal controller (the base: `base_turns`, its turns a minute as beats)."""
+    times, names, commanded = commanded_run(config, seconds, seed, mode)
+    rows = []
+    for motion in animated_parts(config, tuple(PARTS)):
+        columns = [names.index(name) for name, moving in zip(motion.joints, motion.moving) if moving]
+        joints = figures(times, [names[column] for column in columns], commanded[:, columns])
+        beats = arm_beats(times, commanded[:, columns]) if motion.part in ("RArm", "LArm") else float("nan")
+        rows.append(PartFigures(motion.part, float(numpy.mean([row.peak_to_peak for row in joints])),
+                                float(numpy.mean([row.rms_speed for row in joints])), beats))
+    return rows + [base_turns(config, seconds, seed, mode)]
+
+
+def modes_report(config_file: str, seconds: float, seed: int) -> Dict[Tuple[str, str], List[PartFigures]]:
+    """Per style and mode: `mode_figures` (behaviour all, robot)."""
+    result = {}
+    for style in ("random", "breathing"):
+        config = load_configuration(config_file, {"behaviour": "all", "platform": "robot", "motionStyle": style,
+                                                  "randomSeed": seed})
+        for mode in MODES:
+            result[(style, mode)] = mode_figures(config, seconds, seed, mode)
+    return result
+
+
+def _ratio(value: float, idle: float) -> str:
+    if numpy.isnan(value) or numpy.isnan(idle):
+        return "     "
+    return "%4.2fx" % (value / idle) if idle > 0 else ("   0x" if value == 0 else "  new")
+
+
+COLUMNS = ("mode", "part", "p2p", "ratio", "speed", "ratio", "beats", "ratio")
+
+
+def format_modes(style: str, tables: Dict[str, List[PartFigures]], seconds: float, seed: int) -> str:
+    """One table of a style: per mode and part, each figure and its ratio to idle's (the base: turns a minute, the
+    largest turn and the peak speed)."""
+    lines = ["== style %s, modes on the ideal controller (%.0f s, seed %d): peak to peak (base: largest turn), "
+             "typical speed (base: peak), arm beats a minute (base: turns a minute), each with its ratio to idle's"
+             % (style, seconds, seed),
+             "%-10s %-6s %8s %6s %9s %6s %7s %6s" % COLUMNS]
+    idle = {row.part: row for row in tables[IDLE]}
+    for mode, rows in tables.items():
+        for row in rows:
+            base = idle[row.part]
+            lines.append("%-10s %-6s %8.3f %6s %9.3f %6s %7.1f %6s" % (
+                mode, row.part, row.amplitude, _ratio(row.amplitude, base.amplitude), row.speed,
+                _ratio(row.speed, base.speed), row.beats, _ratio(row.beats, base.beats)))
+    return "\n".join(lines).replace(" nan", "   -")
+
+
+def mode_targets(tables: Dict[str, List[PartFigures]]) -> List[Tuple[str, bool]]:
+    """(target, met) of each mode's targets (README: "Modes") in one style's tables."""
+    idle = {row.part: row for row in tables[IDLE]}
+    listening = {row.part: row for row in tables["listening"]}
+    speaking = {row.part: row for row in tables["speaking"]}
+    arms = [part for part in ("RArm", "LArm") if part in idle]
+    hands = [part for part in ("RHand", "LHand") if part in idle]
+    return [
+        ("listening: arm and hand amplitude <= %.0f %% of idle's" % (100 * LISTENING_MOST),
+         all(listening[part].amplitude <= LISTENING_MOST * idle[part].amplitude for part in arms + hands)),
+        ("listening: no base turn", listening["base"].beats == 0 or numpy.isnan(listening["base"].beats)),
+        ("speaking: arm amplitude >= %.1f x idle's" % SPEAKING_LEAST,
+         all(speaking[part].amplitude >= SPEAKING_LEAST * idle[part].amplitude for part in arms)),
+        ("speaking: >= %.0f arm beats a minute" % SPEAKING_BEATS,
+         all(speaking[part].beats >= SPEAKING_BEATS for part in arms)),
+        ("speaking: no base turn", speaking["base"].beats == 0 or numpy.isnan(speaking["base"].beats)),
+    ]
+
+
 def ease_in_report(config_file: str, seed: int) -> Dict[str, Dict[str, Dict[str, float]]]:
     """Per style, per actuation (and from the joint limits, on the ideal controller): `ease_in`."""
     result = {}
@@ -291,6 +410,16 @@ def clearance_report(config_file: str, seconds: float, seed: int) -> List[str]:
     return lines
 
 
+def print_modes(config_file: str, seconds: float, seed: int) -> None:
+    """The modes' tables and whether each target is met (README: "Modes")."""
+    tables = modes_report(config_file, seconds, seed)
+    for style in ("random", "breathing"):
+        by_mode = {mode: tables[(style, mode)] for mode in MODES}
+        print(format_modes(style, by_mode, seconds, seed))
+        print("\n".join("  %s: %s" % ("met" if met else "NOT MET", target) for target, met in mode_targets(by_mode)))
+        print()
+
+
 def main(argv: Sequence[str]) -> int:
     parser = argparse.ArgumentParser(prog="motion report", description="What a person sees of each motion style, "
                                      "on the ideal controller, on the robot's driver and on naoqi_driver fed by the "
@@ -308,6 +437,7 @@ def main(argv: Sequence[str]) -> int:
         print(format_table("== style %s, %s (%.0f s, seed %d)" % (style, TITLES[driver], arguments.seconds,
                                                                   arguments.seed), rows))
         print()
+    print_modes(arguments.config or shipped_configuration_path(), arguments.seconds, arguments.seed)
     for style, rows in ease_in_report(arguments.config or shipped_configuration_path(), arguments.seed).items():
         print(format_ease_in(style, rows))
         print()

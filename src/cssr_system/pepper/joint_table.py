@@ -151,6 +151,10 @@ def short_name(joint_name: str) -> str:
     return joint_name[1:] if joint_name[0] in "LR" and joint_name[1].isupper() else joint_name
 
 
+# The sign of a forward lean of the torso in HipPitch: its axis is -y (figure/kinematics.py), so a negative angle
+# tilts the torso forward (the rest centre, -0.11, leans a little already).
+HIP_PITCH_FORWARD = -1.0
+
 # Arm joints (short names) that move as mirror images on the two sides: the right's motion is the left's negated.
 MIRRORED_JOINTS = ("ShoulderRoll", "ElbowRoll", "ElbowYaw", "WristYaw")
 

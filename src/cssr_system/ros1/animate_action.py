@@ -13,7 +13,7 @@ import rospy
 from cssr_system.animate_behaviour.console import console
 from cssr_system.animate_behaviour.contract import ANIMATE_ACTION, NODE_NAME, STATUS_FREQUENCY_PARAMETER
 from cssr_system.core.events import AnimateCancel, AnimateGoal
-from cssr_system.core.session import GoalRefused, checked_goal
+from cssr_system.core.session import GoalRefused, checked_goal, goal_mode
 from cssr_system.msg import AnimateAction, AnimateFeedback, AnimateResult
 from cssr_system.ros1.rospy_compat import caller_of_goal
 from cssr_system.ros1.status import part_statuses
@@ -48,7 +48,8 @@ class AnimateActionServer:
             handle.set_rejected(AnimateResult(reason="rejected: %s" % error), str(error))
             return
         by = caller_of_goal(handle.get_goal_id().id)
-        self._post(AnimateGoal(handle, config_file, config, topics, duration, by))
+        self._post(AnimateGoal(handle, config_file, config, topics, duration, by,
+                               sets_mode=bool(goal_mode(handle.get_goal()))))
 
     def _on_cancel(self, handle) -> None:
         self._post(AnimateCancel(handle))

@@ -20,6 +20,7 @@ from cssr_system.animate_behaviour.event_log import (BackgroundLog, EventLog, cl
 from cssr_system.animate_behaviour.topics import joint_angles_topic
 from cssr_system.core.base_stream import BaseStream
 from cssr_system.core.controller_watcher import ControllerWatcher
+from cssr_system.core.conversation import configured_sources
 from cssr_system.core.events import Shutdown
 from cssr_system.core.joint_angle_stream import JointAngleStream
 from cssr_system.core.joint_states import JointStateCache, JointStateFeed, SubscriptionSwitch
@@ -31,6 +32,7 @@ from cssr_system.motion.waypoints import animated_parts, make_rng
 from cssr_system.package_files import package_dir, package_version
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.ros1.animate_action import AnimateActionServer
+from cssr_system.ros1.conversation_watch import ConversationWatch
 from cssr_system.ros1.foreign_watch import ForeignCommandWatch
 from cssr_system.ros1.joint_angles_topic import JointAnglesTopic
 from cssr_system.ros1.parameters import LiveSettingsServer, load_node_configuration
@@ -91,11 +93,12 @@ class AnimateBehaviourNode:
         self.joint_angles: Optional[JointAnglesTopic] = None  # the shared publisher of actuation joint_angles
         self.watch = ForeignCommandWatch(rospy.get_caller_id(), self.supervisor.events.put, self.clock,
                                          self.report_error, self._watcher.status_seen)
+        self.conversation = ConversationWatch(self._post, self.report_error)  # README: "Modes"
 
     def start(self, config_file: str, config: Configuration, topics: Dict[str, str]) -> None:
         self.log.write(contract.CONFIGURATION_LOADED, file=config_file, items=configuration_items(config))
         self._choose_actuation(config, topics)
-        self.supervisor.set_up(config, topics)
+        self.supervisor.set_up(config, topics, self.conversation.watch(configured_sources(config)))
         self._switch.start()
         self._rehearse(config, topics)
         self.supervisor.start()

@@ -16,7 +16,7 @@ from dynamic_reconfigure.server import Server
 
 from cssr_system.animate_behaviour.configuration import Configuration, ConfigurationError, shipped_configuration_path
 from cssr_system.animate_behaviour.contract import NODE_NAME, NODE_PARAMETERS
-from cssr_system.animate_behaviour.live_settings import setting_overrides, setting_values
+from cssr_system.animate_behaviour.live_settings import SETTING_KEYS, setting_overrides, setting_values
 from cssr_system.cfg import AnimateBehaviourConfig
 from cssr_system.core.configure import configure
 from cssr_system.core.events import Reconfigure
@@ -99,6 +99,7 @@ class LiveSettingsServer:
         except ConfigurationError as error:
             rospy.logwarn("%s: live settings refused, nothing applied: %s", NODE_NAME, error)
             return self._accepted
-        self._accepted = values
-        self._post(Reconfigure(config_file, config, topics, BY))
+        accepted, self._accepted = self._accepted or {}, values
+        changed = frozenset(key for name, key in SETTING_KEYS.items() if values.get(name) != accepted.get(name))
+        self._post(Reconfigure(config_file, config, topics, BY, changed))
         return values

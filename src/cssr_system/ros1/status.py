@@ -26,12 +26,14 @@ class StatusPublisher:
         self._changes = StatusChanges()
 
     def publish(self, enabled: bool, part_streams, base_streams, settings: Optional[Configuration] = None,
-                by: str = "") -> None:
-        """Publishes when anything changed since the last time. `settings`: the configuration in force."""
+                by: str = "", mode: str = "", mode_by: str = "") -> None:
+        """Publishes when anything changed since the last time. `settings`: the configuration in force; `mode`: the
+        mode in force, set by `mode_by`."""
         rows = part_rows(part_streams, base_streams)
-        if not self._changes.changed(enabled, rows, settings, by):
+        if not self._changes.changed(enabled, rows, settings, by, mode, mode_by):
             return
-        message = AnimateBehaviourStatus(enabled=enabled, settings_by=by, parts=part_statuses(rows))
+        message = AnimateBehaviourStatus(enabled=enabled, settings_by=by, parts=part_statuses(rows), mode=mode,
+                                         mode_by=mode_by)
         if settings is not None:
             message.intensity, message.tempo = settings.intensity, settings.breaths_per_minute
             message.motion_style, message.moving_parts = settings.motion_style, moving_parts(settings)

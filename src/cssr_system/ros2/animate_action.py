@@ -20,7 +20,7 @@ from rclpy.task import Future
 from cssr_system.animate_behaviour.console import console
 from cssr_system.animate_behaviour.contract import ANIMATE_ACTION, NODE_NAME
 from cssr_system.core.events import AnimateCancel, AnimateGoal
-from cssr_system.core.session import GoalRefused, checked_goal
+from cssr_system.core.session import GoalRefused, checked_goal, goal_mode
 from cssr_system.ros2.rclpy_compat import other_action_client
 from cssr_system.ros2.status import part_statuses
 
@@ -147,7 +147,7 @@ class AnimateActionServer(GoalServer):
 
     def goal_event(self, request, by: str, handle=None) -> AnimateGoal:
         (config_file, config, topics), duration = checked_goal(request, self._configure)
-        return AnimateGoal(handle, config_file, config, topics, duration, by)
+        return AnimateGoal(handle, config_file, config, topics, duration, by, sets_mode=bool(goal_mode(request)))
 
     def result(self, animated: float, reason: str):
         return Animate.Result(animated=float(animated), reason=reason)

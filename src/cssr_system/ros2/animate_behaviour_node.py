@@ -21,6 +21,7 @@ from cssr_system.animate_behaviour.topics import joint_angles_topic
 from cssr_system.core.activation import Activation
 from cssr_system.core.base_stream import BaseStream
 from cssr_system.core.controller_watcher import ControllerWatcher
+from cssr_system.core.conversation import configured_sources
 from cssr_system.core.events import Shutdown
 from cssr_system.core.joint_angle_stream import JointAngleStream
 from cssr_system.core.joint_states import JointStateCache, JointStateFeed, SubscriptionSwitch
@@ -29,6 +30,7 @@ from cssr_system.core.problems import Problems
 from cssr_system.core.supervisor import Supervisor
 from cssr_system.package_files import package_dir, package_version
 from cssr_system.ros2.animate_action import AnimateActionServer
+from cssr_system.ros2.conversation_watch import ConversationWatch
 from cssr_system.ros2.foreign_watch import ForeignCommandWatch, twist_key
 from cssr_system.ros2.joint_angles_topic import JointAnglesTopic
 from cssr_system.ros2.parameters import NodeParameters
@@ -137,6 +139,7 @@ class AnimateBehaviourNode:
                                           self.supervisor.stopped, self.report_error)
         self.watch = ForeignCommandWatch(node, self.own_goals, self._post, self.clock, self.report_error,
                                          self._watcher.status_seen)
+        self.conversation = ConversationWatch(node, self._post, self.report_error)  # README: "Modes"
         self.joint_angles: Optional[JointAnglesTopic] = None
         self.services: Optional[ActivationServices] = None
         self.executor_thread = ExecutorThread(node, self.report_error)
@@ -144,7 +147,7 @@ class AnimateBehaviourNode:
     def start(self, config_file: str, config: Configuration, topics: Dict[str, str]) -> None:
         self.log.write(contract.CONFIGURATION_LOADED, file=config_file, items=configuration_items(config))
         self._choose_actuation(config, topics)
-        self.supervisor.set_up(config, topics)
+        self.supervisor.set_up(config, topics, self.conversation.watch(configured_sources(config)))
         self._switch.start()
         self.supervisor.start()
         self._watcher.thread.start()

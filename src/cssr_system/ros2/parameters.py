@@ -5,22 +5,25 @@ Each key is declared with the file's value (a launch file's or the command line'
 parameters are: booleans, integers and numbers as such, the other keys as the text the file holds; any type is
 accepted later, and checked as the file's values are. A change is refused, with the configuration's reason, when
 the configuration it makes is invalid; the live settings (intensity, breathsPerMinute, motionStyle, moveArms,
-moveHands, moveLeg, turnBase) apply at once, the other keys at the next ``enabled``, but START_UP_KEYS, which are
-read at start-up: they name the controllers, whose clients the node makes before it spins (an rclpy action client
-made while the executor spins may be waited on before it is complete)."""
+moveHands, moveLeg, turnBase, mode) apply at once, the other keys at the next ``enabled``, but START_UP_KEYS, which
+are read at start-up: they name the controllers, whose clients the node makes before it spins (an rclpy action client
+made while the executor spins may be waited on before it is complete), and the conversation's sources, which the node
+subscribes to at start-up."""
 from typing import Callable, Dict, Optional
 
 from rcl_interfaces.msg import ParameterDescriptor, SetParametersResult
 
-from cssr_system.animate_behaviour.configuration import (KEYS, ConfigurationError, configuration_items,
-                                                         load_configuration, shipped_configuration_path)
+from cssr_system.animate_behaviour.configuration import (CONVERSATION_SOURCES, KEYS, ConfigurationError,
+                                                         configuration_items, load_configuration,
+                                                         shipped_configuration_path)
 from cssr_system.animate_behaviour.live_settings import LIVE_KEYS
 from cssr_system.core.configure import configure
 from cssr_system.core.events import Reconfigure
 from cssr_system.package_files import data_dir
 
 BY = "parameters"
-START_UP_KEYS = ("platform", "robotTopics", "simulatorTopics", "actuation")
+START_UP_KEYS = ("platform", "robotTopics", "simulatorTopics", "actuation") + tuple(
+    key for key, _, _ in CONVERSATION_SOURCES)
 READ_AT_START = ParameterDescriptor(read_only=True, description="read at start-up")
 
 
@@ -70,5 +73,5 @@ class NodeParameters:
         except ConfigurationError as error:
             return SetParametersResult(successful=False, reason=str(error))
         if any(key in LIVE_KEYS for key in changes):
-            self._post(Reconfigure(config_file, config, topics, BY))
+            self._post(Reconfigure(config_file, config, topics, BY, frozenset(changes)))
         return SetParametersResult(successful=True)
