@@ -78,8 +78,8 @@ class ForeignCommandWatch:
         if self._status_seen is not None:
             self._status_seen(action)
         self.goals.status_list(action, ((status.goal_id.id, status.status in RUNNING_STATES)
-                                         for status in message.status_list
-                                         if not status.goal_id.id.startswith(self._own_prefix)), caller_of_goal)
+                                        for status in message.status_list
+                                        if not status.goal_id.id.startswith(self._own_prefix)), caller_of_goal)
 
     def _on_command(self, message: JointTrajectory, action: str) -> None:
         caller = caller_of(message)

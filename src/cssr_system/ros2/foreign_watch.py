@@ -91,9 +91,9 @@ class ForeignCommandWatch:
         self._status_seen(action)
         uuids = (bytes(status.goal_info.goal_id.uuid) for status in message.status_list)
         self.goals.status_list(action, ((uuid.hex(), status.status in RUNNING_STATES)
-                                         for uuid, status in zip(uuids, message.status_list)
-                                         if uuid not in self._own_goals),
-                                lambda goal_id: other_action_client(self._node, action))
+                                        for uuid, status in zip(uuids, message.status_list)
+                                        if uuid not in self._own_goals),
+                               lambda goal_id: other_action_client(self._node, action))
 
     def _on_trajectory(self, message: JointTrajectory, action: str) -> None:
         topic = trajectory_topic(action)

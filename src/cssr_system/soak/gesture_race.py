@@ -141,8 +141,8 @@ def summary(races: Sequence[PartRace]) -> Dict[str, object]:
 
 
 def text(result: Dict[str, object]) -> str:
-    lines = ["gestures sent: %d; lost (not SUCCEEDED): %d %s" % (result["gestures"], result["lost"],
-                                                                  result["lost by state"] or ""),
+    lines = ["gestures sent: %d; lost (not SUCCEEDED): %d %s" % (
+        result["gestures"], result["lost"], result["lost by state"] or ""),
              "by part: %s" % ", ".join("%s %d" % item for item in sorted(result["by part"].items())),
              "aimed at the node's next goal boundary: %d (%d within 20 ms of it)" % (
                  result["aimed"], result["aimed within 20 ms of the boundary"]),
