@@ -1,5 +1,5 @@
 # The two commands of the README, and the steps they are made of.
-.PHONY: demo test benchmark soak motion-report setup build clean
+.PHONY: demo test benchmark soak gesture-race motion-report setup build clean
 
 # make demo DURATION=10 PLATFORM=simulator BEHAVIOUR=hands OUTPUT_DIR=/tmp/demo GESTURE=1
 #           STYLE=breathing DRIVER=naoqi_dcm NODE_ARGS="_gestureDuration:=1.5" SIM_ARGS="..." INTERACTION=1
@@ -28,6 +28,12 @@ SOAK_OPTIONS := DURATION WARM_UP ROS SEED TRACEMALLOC SIM_CLOCK
 soak:
 	$(foreach option,$(SOAK_OPTIONS),$(if $(filter command line,$(origin $(option))),SOAK_$(option)='$(subst ','\'',$($(option)))')) \
 	bash tools/soak.sh
+
+# make gesture-race ROS=1|2 GESTURES=100 STYLE=random|breathing SEED=1 (or RACE_ROS, ...): doc/soak.md.
+RACE_OPTIONS := ROS GESTURES STYLE SEED
+gesture-race:
+	$(foreach option,$(RACE_OPTIONS),$(if $(filter command line,$(origin $(option))),RACE_$(option)='$(subst ','\'',$($(option)))')) \
+	bash tools/gesture_race.sh
 
 # What a person sees of each motion style: ideal, through pepper_dcm, through joint_angles (README: "Motion styles").
 motion-report:

@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from soak_check import check, run_soak
+from soak_check import check, check_race, run_race, run_soak
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "ros2"))
 from domains import claim_domain  # noqa: E402
@@ -18,3 +18,10 @@ def test_three_minutes_of_churn_leave_the_ros2_node_as_it_started(tmp_path):
     if finished.returncode == NO_ROS2:
         pytest.skip(finished.stdout.strip().splitlines()[-1])
     check(finished, tmp_path)
+
+
+def test_gestures_at_random_moments_on_every_part_find_the_ros2_node_yielding(tmp_path):
+    finished = run_race("2", tmp_path, "random", RACE_DOMAIN_ID=str(claim_domain()))
+    if finished.returncode == NO_ROS2:
+        pytest.skip(finished.stdout.strip().splitlines()[-1])
+    check_race(finished, tmp_path)

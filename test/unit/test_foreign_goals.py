@@ -29,3 +29,51 @@ def test_a_running_goal_gone_from_the_list_has_ended_and_actions_are_apart():
     assert posted == [ForeignGoal(ACTION, "g1", "a client", None)]
     goals.status_list(ACTION, [], lambda goal_id: "a client")
     assert posted[1:] == [ForeignResult(ACTION, "g1")]
+
+
+def test_a_goal_that_began_and_ended_between_two_lists_is_told_as_both_but_not_in_the_first_list():
+    posted = []
+    goals = ForeignGoals(posted.append)
+    goals.status_list(ACTION, [("old", False)], lambda goal_id: "a client")  # before the node's time: no news
+    goals.status_list(ACTION, [("old", False), ("hand", False)], lambda goal_id: "a client")
+    assert posted == [ForeignGoal(ACTION, "hand", "a client", None), ForeignResult(ACTION, "hand")]
+    assert goals.started(ACTION) == 1
+
+
+def test_the_last_look_sends_only_while_no_other_clients_goal_runs_or_came_since_the_decision():
+    posted, sent = [], []
+    goals = ForeignGoals(posted.append)
+    send = lambda: sent.append("ours")  # noqa: E731
+    assert goals.send_unless_foreign(ACTION, send, goals.started(ACTION)) is None and sent == ["ours"]
+    decided = goals.started(ACTION)
+    goals.status_list(ACTION, [("g1", True)], lambda goal_id: "a client")
+    assert goals.send_unless_foreign(ACTION, send, decided) == "g1" and sent == ["ours"]
+    assert goals.send_unless_foreign("/other/follow_joint_trajectory", send) is None, "other actions are apart"
+    goals.status_list(ACTION, [("g1", False)], lambda goal_id: "a client")
+    assert goals.send_unless_foreign(ACTION, send, decided) == "g1", "it came after the send was decided"
+    assert goals.send_unless_foreign(ACTION, send, goals.started(ACTION)) is None
+    assert sent == ["ours", "ours", "ours"]
+
+
+def test_a_status_list_that_comes_during_a_send_waits_until_the_goal_has_left():
+    """The check and the send are one step for the status callback: a list handed over meanwhile (another thread,
+    as rospy's) is applied after the send, and the next look sees it."""
+    import threading
+    goals, order = ForeignGoals(lambda event: order.append(type(event).__name__)), []
+    sending, listed = threading.Event(), threading.Event()
+
+    def send():
+        sending.set()
+        assert not listed.wait(0.2), "the list was applied in the middle of the send"
+        order.append("sent")
+
+    def status():
+        sending.wait(5.0)
+        goals.status_list(ACTION, [("g1", True)], lambda goal_id: "a client")
+        listed.set()
+    thread = threading.Thread(target=status)
+    thread.start()
+    assert goals.send_unless_foreign(ACTION, send) is None
+    thread.join(5.0)
+    assert order == ["sent", "ForeignGoal"]
+    assert goals.send_unless_foreign(ACTION, lambda: order.append("sent again")) == "g1"

@@ -646,3 +646,26 @@ def test_our_goal_preempted_before_the_other_clients_goal_shows_is_no_failure():
     assert rig.warnings == [], "no failure"
     rig.stream.foreign_motion("gesture-1", "/gestureExecution", "goal", last_point_at=rig.now + 1.0)
     assert rig.stream.state == PartState.YIELDING and rig.stream.retry_at is None
+
+
+def test_a_goal_the_last_look_withheld_makes_no_failure_and_the_other_clients_goal_makes_the_part_yield():
+    rig = Rig()
+    rig.enable()
+    rig.now += 1.0
+    rig.stream.foreign_motion("gesture-1", "/gestureExecution", "goal", last_point_at=None)
+    rig.client.handles[-1].done("WITHHELD", None, "not sent: another client's goal gesture-1 is on the controller")
+    rig.deliver()
+    (finished,) = rig.log.events(contract.GOAL_FINISHED)
+    assert finished["state"] == "WITHHELD" and rig.warnings == []
+    assert rig.stream.state == PartState.YIELDING and rig.stream.retry_at is None
+
+
+def test_a_withheld_goal_reported_before_the_other_clients_goal_waits_without_a_back_off():
+    rig = Rig()
+    rig.enable()
+    rig.client.handles[-1].done("WITHHELD", None, "not sent")
+    rig.deliver()
+    assert rig.stream.state == PartState.WAITING and rig.stream.retry_at == rig.now + RETRY_DELAY
+    assert rig.warnings == [], "no failure"
+    rig.stream.foreign_motion("gesture-1", "/gestureExecution", "goal", last_point_at=None)
+    assert rig.stream.state == PartState.YIELDING and len(rig.client.handles) == 1

@@ -4,7 +4,6 @@ import json
 import os
 import subprocess
 import sys
-import threading
 import time
 
 import pytest
@@ -12,7 +11,6 @@ import pytest
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.event_log import EventLog, format_log_line, format_timestamp
 from cssr_system.soak import figures, report, run, schedule
-from cssr_system.soak.goal_starts import GoalStarts
 from cssr_system.soak.run import LogTail, SoakRun, count_tracebacks
 
 HOUR = 3600.0
@@ -36,7 +34,9 @@ def test_the_schedule_churns_as_described_and_keeps_goals_clear_of_restarts():
     expected = {step.detail.get("expect") for step in goals}
     assert expected == {None, "duration elapsed", "cancelled", "replaced"}
     gestures = [step.at for step in steps if step.action == schedule.GESTURE]
-    assert len(gestures) >= 50 and all(at % 10.0 == 5.0 for at in gestures), "between two live settings"
+    minutes = [int(at // schedule.GESTURE_PERIOD) for at in gestures]
+    assert len(gestures) >= 50 and len(set(minutes)) == len(minutes), "at most one a minute"
+    assert len({round(at % 10.0, 1) for at in gestures}) > 20, "at random moments, not at one phase of the settings"
 
 
 def test_the_base_listener_leaves_on_its_own_half_way_between_two_restarts():
@@ -95,8 +95,7 @@ def test_a_flat_run_meets_every_target():
     ({"rss_growth_per_hour": 1.1}, "resident memory growth"),
     ({"threads": (28, 34)}, "threads, max - min"),
     ({"replies": 0.06}, "replies p99"),
-    ({"goals": {"gesture-0": {"expect": "SUCCEEDED", "status": "ABORTED"}}},
-     "animate goals and gestures not ending as expected"),
+    ({"goals": {"gesture-0": {"expect": "SUCCEEDED", "status": "ABORTED"}}}, "foreign gestures lost"),
     ({"goals": {"animate-0": {"expect": "replaced", "sent": 3.0}}},
      "animate goals and gestures not ending as expected"),
     ({"gone_wrong": [[900.0, "RArm", "ABORTED", False]]}, "node goals aborted or lost, not by a restart"),
@@ -105,7 +104,8 @@ def test_a_flat_run_meets_every_target():
 def test_each_target_fails_on_its_own(changes, failing):
     verdicts = met(result_of(**changes))
     assert verdicts[failing] is False
-    assert [name for name, verdict in verdicts.items() if verdict is False and name != failing] in (
+    also = ["animate goals and gestures not ending as expected"] if failing == "foreign gestures lost" else []
+    assert [name for name, verdict in verdicts.items() if verdict is False and name not in [failing] + also] in (
         [], ["replies p99, worst 10-minute window"])
 
 
@@ -126,28 +126,6 @@ def test_an_abort_of_the_gesture_part_right_after_a_gesture_or_anything_after_a_
     run._gestures, run._restarts = [100.0], [[300.0, 303.0]]
     assert run.provoked(100.5, "RArm") and not run.provoked(100.5, "LArm") and not run.provoked(105.0, "RArm")
     assert run.provoked(310.0, "Leg") and not run.provoked(330.0, "Leg")
-
-
-def test_a_due_gesture_leaves_once_a_goal_not_running_before_starts_on_the_arm():
-    starts, sent = GoalStarts(), threading.Event()
-    starts.status_list(["node-1"])
-    thread = starts.after_next_start(sent.set, timeout=5.0)
-    starts.status_list(["node-1"])  # the same goal, listed again: no start
-    starts.status_list([])  # it ended
-    assert not sent.wait(0.2)
-    started = time.monotonic()
-    starts.status_list(["node-2"])
-    assert sent.wait(1.0) and time.monotonic() - started < 1.0
-    thread.join(1.0)
-
-
-def test_a_due_gesture_leaves_after_its_wait_when_no_goal_starts():
-    starts, sent = GoalStarts(), threading.Event()
-    starts.status_list(["node-1"])
-    started = time.monotonic()
-    starts.after_next_start(sent.set, timeout=0.3)
-    assert sent.wait(2.0) and time.monotonic() - started >= 0.3
-    assert not starts.wait_for_start(0.05), "no goal started"
 
 
 def test_the_log_is_read_once_across_a_rotation(tmp_path):

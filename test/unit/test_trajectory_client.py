@@ -42,3 +42,28 @@ def test_the_hold_of_a_goal_that_ends_at_rest_is_its_last_point_again():
     points = goal_message(joints, timed).trajectory.points
     assert points[-1].positions == points[-2].positions
     assert points[-1].velocities == [0.0] * len(joints)
+
+
+class FakeActionClient:
+    def __init__(self):
+        self.sent = []
+
+    def send_goal(self, goal, transition):
+        self.sent.append(goal)
+        return "handle %d" % len(self.sent)
+
+
+def test_a_goal_leaves_under_the_last_look_and_is_withheld_while_another_clients_goal_runs():
+    from cssr_system.core.foreign_goals import ForeignGoals
+    from cssr_system.ros1.trajectory_client import TrajectoryClient
+    action = "/pepper_dcm/RightArm_controller/follow_joint_trajectory"
+    actionlib_client, posted, ends = FakeActionClient(), [], []
+    goals = ForeignGoals(posted.append)
+    client = TrajectoryClient(action, actionlib_client, last_look=goals)
+    joints, timed = planned("RArm", 3)
+    done = lambda *end: ends.append(end)  # noqa: E731
+    assert client.send(client.goal(joints, timed), done).handle == "handle 1" and ends == []
+    goals.status_list(action, [("gesture", True)], lambda goal_id: "/gestureExecution")
+    withheld = client.send(client.goal(joints, timed), done)
+    withheld.cancel()  # nothing left: nothing to cancel
+    assert len(actionlib_client.sent) == 1 and ends[0][:2] == ("WITHHELD", None) and "gesture" in ends[0][2]

@@ -7,7 +7,9 @@ The client is the front-end's (ros1/trajectory_client.py on ROS 1, ros2/trajecto
   applied), built before it is sent: a stop builds every part's goal before the first one leaves;
 - ``client.send(goal, done)``: sends it and returns a handle with ``cancel()`` and ``release()`` (the goal no longer
   runs for us: only its end is awaited). When the goal ends, ``done(state, error_code, error_string)`` is called
-  from any thread, with `state` one of the names below and the result's error code (None without a result).
+  from any thread, with `state` one of the names below and the result's error code (None without a result);
+  WITHHELD when the client's last look before sending found another client's goal on the controller, so that the
+  goal never left (README: "Sharing the robot").
 """
 from typing import NamedTuple, Optional
 
@@ -19,6 +21,8 @@ from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline
 # A goal's end, as the log names it: actionlib's names, which the ROS 2 front-end maps its own states onto.
 SUCCEEDED, ABORTED, PREEMPTED, REJECTED, RECALLED, LOST = (
     "SUCCEEDED", "ABORTED", "PREEMPTED", "REJECTED", "RECALLED", "LOST")
+# A goal not sent after all: another client's goal had reached the controller (core/foreign_goals.py).
+WITHHELD = "WITHHELD"
 # The log's final state of a goal whose end had not been reported when the node exited.
 RUNNING_AT_EXIT = "RUNNING_AT_EXIT"
 # control_msgs' FollowJointTrajectory result code for a goal aborted for its end state (the same on ROS 1 and 2).

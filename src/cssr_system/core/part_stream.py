@@ -28,7 +28,7 @@ from cssr_system.animate_behaviour.contract import NODE_NAME, PURPOSE_ANIMATE, P
 from cssr_system.core.events import GoalDone
 from cssr_system.core.foreign_motion import COMMAND, DEFAULT_QUIET_TIME, GOAL
 from cssr_system.core.goals import (ABORTED, GOAL_TOLERANCE_VIOLATED, LOST, PREEMPTED, RUNNING_AT_EXIT, SUCCEEDED,
-                                    OutgoingGoal, RunningGoal)
+                                    WITHHELD, OutgoingGoal, RunningGoal)
 from cssr_system.core.motion_stream import PartMotionStream, StreamState
 from cssr_system.motion.planners import HomePlanner, Planner, settled
 from cssr_system.motion.trajectory_timing import TimedTrajectory
@@ -146,12 +146,18 @@ class PartStream(PartMotionStream):
         if reached or sent.purpose == PURPOSE_HOME:
             self._failures = 0
             self._finish_goal("goal %d %s" % (event.goal_number, state_name))
-        elif sent.replaced_by:  # no failure: the other client's goal, once seen, makes the part yield
-            self._sent = None
-            self.retry_at = self._clock() + RETRY_DELAY
-            self.transition_to(WAITING, "goal %d replaced by %s" % (event.goal_number, sent.replaced_by))
+        elif sent.replaced_by or state_name == WITHHELD:  # no failure: the other client's goal makes the part yield
+            self._wait_for_the_other_client(event.goal_number, sent.replaced_by)
         else:
             self._retry_later(sent, event.goal_number, state_name, event.error_string)
+
+    def _wait_for_the_other_client(self, number: int, replaced_by: str) -> None:
+        """Our goal was replaced by another client's, or withheld by the last look because one had come: its
+        ForeignGoal makes the part yield; without one (not on the status), the part tries again later."""
+        self._sent = None
+        self.retry_at = self._clock() + RETRY_DELAY
+        self.transition_to(WAITING, "goal %d %s" % (number, "replaced by " + replaced_by if replaced_by else
+                                                    "withheld: another client's goal had come"))
 
     def _final_state(self, sent: RunningGoal, state_name: str, current: bool) -> str:
         """The log's final state. Another node's goal that replaced ours makes it PREEMPTED with `replaced_by`:

@@ -123,8 +123,8 @@ class AnimateBehaviourNode:
         self.watch.watch_controller(action)  # other nodes' goals still move the part where pepper_dcm runs too
         if self.joint_angles is not None:
             return JointAngleStream(part, action, self.joint_angles, self.clock, self.joint_states, self.log)
-        return PartStream(part, action, TrajectoryClient(action), self.clock, self.joint_states,
-                          self.supervisor.events.put, self.log)
+        return PartStream(part, action, TrajectoryClient(action, last_look=self.watch.goals), self.clock,
+                          self.joint_states, self.supervisor.events.put, self.log)
 
     def _make_base(self, topic: str) -> BaseStream:
         self.watch.watch_base(topic)

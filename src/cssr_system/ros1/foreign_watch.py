@@ -42,7 +42,7 @@ class ForeignCommandWatch:
         self._own = own_caller_id
         self._post = post
         self._clock = clock
-        self._goals = ForeignGoals(post)
+        self.goals = ForeignGoals(post)  # also the last look of the trajectory clients
         self._subscribers = []  # kept for the node's life
         # The measured positions of joints (None when unknown), for how long another node's setAngles call runs.
         self._positions: Callable[[Sequence[str]], Optional[numpy.ndarray]] = lambda joints: None
@@ -77,9 +77,9 @@ class ForeignCommandWatch:
     def _on_status(self, message: GoalStatusArray, action: str) -> None:
         if self._status_seen is not None:
             self._status_seen(action)
-        self._goals.status_list(action, ((status.goal_id.id, status.status in RUNNING_STATES)
-                                         for status in message.status_list
-                                         if not status.goal_id.id.startswith(self._own_prefix)), caller_of_goal)
+        self.goals.status_list(action, ((status.goal_id.id, status.status in RUNNING_STATES)
+                                        for status in message.status_list
+                                        if not status.goal_id.id.startswith(self._own_prefix)), caller_of_goal)
 
     def _on_command(self, message: JointTrajectory, action: str) -> None:
         caller = caller_of(message)

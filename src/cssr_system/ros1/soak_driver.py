@@ -17,7 +17,6 @@ import actionlib
 import dynamic_reconfigure.client
 import rosgraph
 import rospy
-from actionlib_msgs.msg import GoalStatus, GoalStatusArray
 from geometry_msgs.msg import Twist
 from rosgraph_msgs.msg import Clock
 
@@ -27,7 +26,6 @@ from cssr_system.demo.gesture import GESTURE_PART
 from cssr_system.msg import AnimateAction, AnimateGoal
 from cssr_system.ros1.gesture_player import GesturePlayer
 from cssr_system.ros1.trajectory_client import goal_state_name
-from cssr_system.soak.goal_starts import GoalStarts
 from cssr_system.soak.processes import (BUSY, PLATFORM, SIMULATOR, Program, arguments, base_remapping, free_port,
                                         heap_file, node_environment, robot_topics, soak, wait_until)
 from cssr_system.srv import setActivation
@@ -86,7 +84,6 @@ class Ros1Driver:
         self._lock = threading.Lock()
         self._pid = None
         self._listener: Optional[rospy.Subscriber] = None
-        self._arm_starts = GoalStarts()
 
     def attach(self, ended) -> None:
         self._ended = ended
@@ -120,7 +117,6 @@ class Ros1Driver:
         topics = robot_topics()
         self._gesture = GesturePlayer(self.prefix + "/" + topics[GESTURE_PART])
         self._gesture.client.wait_for_server(rospy.Duration(START_TIMEOUT))
-        rospy.Subscriber(self._gesture.action + "/status", GoalStatusArray, self._arm_status, queue_size=10)
         self._base = self.prefix + "/" + topics[WHEELS_KEY]
         self.base_listener(True)
 
@@ -153,14 +149,10 @@ class Ros1Driver:
         if handle is not None:
             handle.cancel()
 
-    def _arm_status(self, message: GoalStatusArray) -> None:
-        self._arm_starts.status_list(status.goal_id.id for status in message.status_list
-                                     if status.status == GoalStatus.ACTIVE)
-
     def play_gesture(self, goal: str) -> None:
         def done(state: int, _result) -> None:
             self._ended(goal, goal_state_name(state), "")
-        self._arm_starts.after_next_start(lambda: self._gesture.client.send_goal(self._gesture.goal(), done_cb=done))
+        self._gesture.client.send_goal(self._gesture.goal(), done_cb=done)
 
     def restart_controllers(self) -> None:
         self.simulator.stop()

@@ -15,6 +15,7 @@ from trajectory_msgs.msg import JointTrajectoryPoint
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.event_log import format_log_line, format_timestamp
+from cssr_system.core.goals import WITHHELD
 from cssr_system.motion.planners import GOAL_TIME_TOLERANCE, Planner, settled
 from cssr_system.motion.trajectory_timing import TimedTrajectory
 from cssr_system.pepper.joint_table import PARTS
@@ -74,11 +75,27 @@ class SentGoal:
         self.goal.trajectory.points = []
 
 
+class WithheldGoal:
+    """The handle of a goal that the last look withheld: it never left, so there is nothing to cancel."""
+
+    def cancel(self) -> None:
+        pass
+
+    def release(self) -> None:
+        pass
+
+
 class TrajectoryClient:
     """One controller's FollowJointTrajectory client. The goal-handle client, not SimpleActionClient: its
-    transitions carry their handle, so a result that arrives before send_goal returns is not lost."""
+    transitions carry their handle, so a result that arrives before send_goal returns is not lost.
 
-    def __init__(self, action: str, client: Optional[actionlib.ActionClient] = None) -> None:
+    `last_look`: the watch's view of other clients' goals (core/foreign_goals.py). Each goal is sent under its
+    lock, which the status callback (a rospy thread) also takes, unless the latest status shows another client's
+    goal running on the controller: then the goal is withheld (README: "Sharing the robot")."""
+
+    def __init__(self, action: str, client: Optional[actionlib.ActionClient] = None, last_look=None) -> None:
+        self.action = action
+        self._last_look = last_look
         self.client = client or actionlib.ActionClient(action, FollowJointTrajectoryAction)
         if client is None:
             ignore_feedback(self.client)
@@ -93,7 +110,7 @@ class TrajectoryClient:
     def goal(joints, timed: TimedTrajectory) -> FollowJointTrajectoryGoal:
         return goal_message(joints, timed)
 
-    def send(self, goal: FollowJointTrajectoryGoal, done: Callable[[str, Optional[int], str], None]) -> SentGoal:
+    def send(self, goal: FollowJointTrajectoryGoal, done: Callable[[str, Optional[int], str], None]):
         def transition(handle) -> None:
             if handle.get_comm_state() != CommState.DONE:
                 return
@@ -101,4 +118,12 @@ class TrajectoryClient:
             done(goal_state_name(handle.get_goal_status()), None if result is None else result.error_code,
                  "" if result is None else result.error_string)
 
-        return SentGoal(self.client.send_goal(goal, transition), goal)
+        if self._last_look is None:
+            return SentGoal(self.client.send_goal(goal, transition), goal)
+        handles = []
+        foreign = self._last_look.send_unless_foreign(
+            self.action, lambda: handles.append(self.client.send_goal(goal, transition)))
+        if foreign is not None:
+            done(WITHHELD, None, "not sent: another client's goal %s is on the controller" % foreign)
+            return WithheldGoal()
+        return SentGoal(handles[0], goal)

@@ -64,12 +64,17 @@ class Subscription:
 
 class ExecutorThread:
     """The thread that spins the node's executor (given the node before the node's clients are made), and the work
-    that must run on it, in the order it was handed over (rclpy runs its own tasks newest first)."""
+    that must run on it, in the order it was handed over (rclpy runs its own tasks newest first).
+
+    The work runs as the callback of a guard condition, not as an executor task: rclpy runs its tasks before it
+    waits for new messages, a guard condition's callback after the subscriptions ready with it. So a goal's last look
+    (ros2/trajectory_client.py) sees the controllers' status lists that came while the goal was handed over."""
 
     def __init__(self, node, report_error: Callable[[str, Exception], None]) -> None:
         self._node = node
         self._report_error = report_error
         self._waiting: Deque[Callable[[], None]] = collections.deque()
+        self._wake = node.create_guard_condition(self._run_waiting)
         self.thread: Optional[threading.Thread] = None
 
     def spin(self, executor) -> None:
@@ -87,7 +92,7 @@ class ExecutorThread:
             work()
             return
         self._waiting.append(work)
-        executor.create_task(self._run_waiting)
+        self._wake.trigger()
 
     def run_pending(self) -> None:
         """Runs the work handed over so far now, when called on the executor's thread (by one of its callbacks);
@@ -177,7 +182,8 @@ class AnimateBehaviourNode:
         self.watch.watch_controller(action)
         if self.joint_angles is not None:
             return JointAngleStream(part, action, self.joint_angles, self.clock, self.joint_states, self.log)
-        client = TrajectoryClient(self.node, action, self.own_goals, self.executor_thread.run)
+        client = TrajectoryClient(self.node, action, self.own_goals, self.executor_thread.run,
+                                  last_look=self.watch.goals)
         return PartStream(part, action, client, self.clock, self.joint_states, self._post, self.log)
 
     def _make_base(self, topic: str) -> BaseStream:

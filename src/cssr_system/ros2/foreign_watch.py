@@ -56,7 +56,7 @@ class ForeignCommandWatch:
         self._status_seen = status_seen
         self.own_twists = OwnMessages()  # the base stream's turns, as they come back
         self.own_calls = OwnMessages()  # the joint-angle streams' calls (ros2/joint_angles_topic.py)
-        self._goals = ForeignGoals(post)
+        self.goals = ForeignGoals(post)  # also the last look of the trajectory clients
         self._subscriptions = []  # kept for the node's life
         self._positions: Callable[[Sequence[str]], Optional[numpy.ndarray]] = lambda joints: None
 
@@ -90,10 +90,10 @@ class ForeignCommandWatch:
     def _on_status(self, message: GoalStatusArray, action: str) -> None:
         self._status_seen(action)
         uuids = (bytes(status.goal_info.goal_id.uuid) for status in message.status_list)
-        self._goals.status_list(action, ((uuid.hex(), status.status in RUNNING_STATES)
-                                         for uuid, status in zip(uuids, message.status_list)
-                                         if uuid not in self._own_goals),
-                                lambda goal_id: other_action_client(self._node, action))
+        self.goals.status_list(action, ((uuid.hex(), status.status in RUNNING_STATES)
+                                        for uuid, status in zip(uuids, message.status_list)
+                                        if uuid not in self._own_goals),
+                               lambda goal_id: other_action_client(self._node, action))
 
     def _on_trajectory(self, message: JointTrajectory, action: str) -> None:
         topic = trajectory_topic(action)

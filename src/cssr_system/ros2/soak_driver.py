@@ -10,7 +10,6 @@ import sys
 import threading
 
 import rclpy
-from action_msgs.msg import GoalStatus, GoalStatusArray
 from control_msgs.action import FollowJointTrajectory
 from geometry_msgs.msg import Twist
 from cssr_system_interfaces.action import Animate
@@ -20,7 +19,6 @@ from rcl_interfaces.srv import SetParameters
 from rclpy.action import ActionClient
 from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
-from rclpy.qos import qos_profile_action_status_default
 from rclpy.signals import SignalHandlerOptions
 
 from cssr_system.animate_behaviour import contract
@@ -29,9 +27,7 @@ from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.demo.gesture import GESTURE_PART
 from cssr_system.ros2.gesture_player import gesture_goal
 from cssr_system.ros2.program import call
-from cssr_system.ros2.rclpy_compat import ACTION_STATUS
 from cssr_system.ros2.trajectory_client import STATE_NAMES
-from cssr_system.soak.goal_starts import GoalStarts
 from cssr_system.soak.processes import (BUSY, PLATFORM, SIMULATOR, Program, arguments, base_remapping, heap_file,
                                         node_environment, robot_topics, soak, wait_until)
 
@@ -73,9 +69,6 @@ class Ros2Driver:
         topics = robot_topics()
         arm = node.resolve_topic_name(topics[GESTURE_PART])
         self._gesture = ActionClient(node, FollowJointTrajectory, arm)
-        self._arm_starts = GoalStarts()
-        node.create_subscription(GoalStatusArray, arm + ACTION_STATUS, self._arm_status,
-                                 qos_profile_action_status_default)
         self._base = node.resolve_topic_name(topics[WHEELS_KEY])
         self._listener = None
         self._ended = None
@@ -135,10 +128,6 @@ class Ros2Driver:
         if handle is not None:
             self._on_executor(handle.cancel_goal_async)
 
-    def _arm_status(self, message: GoalStatusArray) -> None:
-        self._arm_starts.status_list(bytes(status.goal_info.goal_id.uuid).hex() for status in message.status_list
-                                     if status.status == GoalStatus.STATUS_EXECUTING)
-
     def play_gesture(self, goal: str) -> None:
         def accepted(future) -> None:
             handle = future.result()
@@ -150,7 +139,7 @@ class Ros2Driver:
 
         def send() -> None:
             self._gesture.send_goal_async(gesture_goal()).add_done_callback(accepted)
-        self._arm_starts.after_next_start(lambda: self._on_executor(send))
+        self._on_executor(send)
 
     def _on_executor(self, work) -> None:
         """Runs `work` (a goal or cancel to send) on the executor's thread: rclpy's action client registers a request

@@ -12,7 +12,7 @@ from rclpy.action import ActionClient
 from trajectory_msgs.msg import JointTrajectoryPoint
 from unique_identifier_msgs.msg import UUID
 
-from cssr_system.core.goals import ABORTED, LOST, PREEMPTED, REJECTED, SUCCEEDED
+from cssr_system.core.goals import ABORTED, LOST, PREEMPTED, REJECTED, SUCCEEDED, WITHHELD
 from cssr_system.motion.planners import GOAL_TIME_TOLERANCE
 from cssr_system.motion.trajectory_timing import TimedTrajectory, to_points
 
@@ -46,8 +46,10 @@ class SentGoal:
     """A goal sent: its id, and its cancel, which waits for the server's acceptance if that has not come yet.
     `on_executor(work)` runs `work` on the executor's thread (TrajectoryClient says why)."""
 
-    def __init__(self, goal: FollowJointTrajectory.Goal, on_executor: Callable[[Callable[[], None]], None]) -> None:
+    def __init__(self, goal: FollowJointTrajectory.Goal, on_executor: Callable[[Callable[[], None]], None],
+                 told: Optional[int] = None) -> None:
         self.goal = goal
+        self.told = told  # other clients' goals told when the send was decided (ForeignGoals.started)
         self.uuid = UUID(uuid=list(uuid.uuid4().bytes))
         self.replaced = False  # no longer runs for us
         self._on_executor = on_executor
@@ -90,11 +92,16 @@ class TrajectoryClient:
 
     Goals and cancels are sent on the executor's thread (`on_executor`): rclpy's ActionClient registers a request's
     future only after the request has gone, so an answer that the executor's thread takes first is lost or fails
-    (ros2/rclpy#1123, #878)."""
+    (ros2/rclpy#1123, #878). That thread also takes the controllers' status lists, so the last look before a goal
+    leaves (`last_look`, core/foreign_goals.py) sees every list taken before it: a goal is withheld when another
+    client's goal runs on the controller, or came after the supervisor decided to send (README: "Sharing the
+    robot")."""
 
     def __init__(self, node, action: str, own_goals: Set[bytes], on_executor: Callable[[Callable[[], None]], None],
-                 callback_group=None) -> None:
+                 callback_group=None, last_look=None) -> None:
         self.client = ActionClient(node, FollowJointTrajectory, action, callback_group=callback_group)
+        self.action = action
+        self._last_look = last_look
         self._on_executor = on_executor
         self._own_goals = own_goals
         self._sent_ids: Deque[bytes] = collections.deque()  # ours in own_goals, the oldest first
@@ -108,19 +115,28 @@ class TrajectoryClient:
 
     def send(self, goal: FollowJointTrajectory.Goal,
              done: Callable[[str, Optional[int], str], None]) -> SentGoal:
-        sent = SentGoal(goal, self._on_executor)
+        told = None if self._last_look is None else self._last_look.started(self.action)
+        sent = SentGoal(goal, self._on_executor, told)
         self._remember(bytes(sent.uuid.uuid))
         self._on_executor(lambda: self._send_now(sent, done))
         return sent
 
     def _send_now(self, sent: SentGoal, done) -> None:
+        futures = []
+
+        def send() -> None:
+            futures.append(self.client.send_goal_async(sent.goal, goal_uuid=sent.uuid))
         try:
-            future = self.client.send_goal_async(sent.goal, goal_uuid=sent.uuid)
+            foreign = send() if self._last_look is None else \
+                self._last_look.send_unless_foreign(self.action, send, sent.told)
         except Exception as error:  # raised on the executor's thread, it would end the executor
             done(LOST, None, "not sent: %s: %s" % (type(error).__name__, error))
             return
+        if foreign is not None:
+            done(WITHHELD, None, "not sent: another client's goal %s is on the controller" % foreign)
+            return
         sent.went_out()
-        future.add_done_callback(lambda answered: self._answered(sent, answered, done))
+        futures[0].add_done_callback(lambda answered: self._answered(sent, answered, done))
 
     def _remember(self, goal_id: bytes) -> None:
         """`goal_id` joins own_goals and this client's oldest leaves it, so that the set does not grow with every goal

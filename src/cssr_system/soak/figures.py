@@ -22,7 +22,7 @@ TARGETS = (Target("resident memory growth", "MB/h", 0.5), Target("threads, max -
            Target("open files, max - min", "", 8), Target("log and its rotated copy, largest", "MB", LOG_BOUND / 1e6),
            Target("tracebacks", "", 0), Target("node goals rejected, not by a restart", "", 0),
            Target("node goals aborted or lost, not by a restart", "", 0),
-           Target("animate goals and gestures not ending as expected", "", 0),
+           Target("animate goals and gestures not ending as expected", "", 0), Target("foreign gestures lost", "", 0),
            Target("replies p99", "ms", 50), Target("replies p99, worst 10-minute window", "ms", 50))
 
 
@@ -80,6 +80,12 @@ def unexpected_ends(result: dict) -> List[str]:
     return wrong
 
 
+def gestures_lost(result: dict) -> int:
+    """Another node's gestures that did not end SUCCEEDED (README: "Sharing the robot": none may)."""
+    return sum(1 for name, goal in result["goals"].items()
+               if name.startswith("gesture") and goal.get("status") != "SUCCEEDED")
+
+
 def worst_window_p99(replies: Sequence[list], warm_up: float) -> Optional[float]:
     windows = {}
     for at, _what, seconds, _success in replies:
@@ -101,7 +107,7 @@ def figures(result: dict) -> dict:
               max(sample["log bytes"] for sample in result["samples"]) / 1e6 if result["samples"] else None,
               result["tracebacks"], sum(state == "REJECTED" and not provoked for _, _, state, provoked in gone_wrong),
               sum(state != "REJECTED" and not provoked for _, _, state, provoked in gone_wrong),
-              len(unexpected_ends(result)), None if p99 is None else 1000.0 * p99,
+              len(unexpected_ends(result)), gestures_lost(result), None if p99 is None else 1000.0 * p99,
               None if worst is None else 1000.0 * worst]
     return {target.name: value for target, value in zip(TARGETS, values)}
 

@@ -7,7 +7,7 @@ expected. The driver (cssr_system.ros1.soak_driver, cssr_system.ros2.soak_driver
   driver.activate(state) -> bool (the reply was a success); driver.set_setting(name, value) -> bool
   driver.send_animate(goal, detail), driver.cancel_animate(goal), driver.play_gesture(goal): they return at once;
       each goal's end comes back through the `ended(goal, status, reason)` the run gives to driver.attach; the
-      gesture leaves just after a goal has started on its arm (cssr_system.soak.goal_starts)
+      gesture leaves at once, whatever the node's goals do
   driver.restart_controllers(): the simulated Pepper stopped and started again (the run calls it on a thread)
   driver.base_listener(present): the base's listener (a subscriber of the base's topic) leaves or comes back
 
@@ -24,7 +24,6 @@ from cssr_system.animate_behaviour.event_log import parse_log_line
 from cssr_system.animate_behaviour.topics import WHEELS_KEY
 from cssr_system.core.goals import ABORTED, LOST, REJECTED
 from cssr_system.demo.gesture import GESTURE_PART
-from cssr_system.soak.goal_starts import GESTURE_WAIT
 from cssr_system.soak.process_figures import cpu_seconds, log_bytes, process_figures, resident_kinds
 from cssr_system.soak.schedule import (ANIMATE, CANCEL, DISABLE, ENABLE, GESTURE, LISTENER, RESTART, SETTING, Step)
 
@@ -32,9 +31,8 @@ SAMPLE_PERIOD = 10.0  # s between samples of the node's process
 PROVOKED_AFTER_RESTART = 15.0  # s after a restart in which a goal's rejection, abort or loss is the restart's doing
 SETTLE = 15.0  # s the run waits at its end for goals still under way
 # s around another node's gesture falling due in which the end of the node's goal on that part is the gesture's
-# doing: on ROS 2 joint_trajectory_controller aborts the goal a newer one replaces. The driver sends the gesture up
-# to GESTURE_WAIT s after it falls due.
-GESTURE_WINDOW = (-0.5, 2.0 + GESTURE_WAIT)
+# doing: on ROS 2 joint_trajectory_controller aborts the goal a newer one replaces.
+GESTURE_WINDOW = (-0.5, 2.0)
 HEAP_KEYS = ("malloc in use", "malloc free", "python blocks")  # MB, MB, a count (tools/soak_probe)
 
 

@@ -4,8 +4,8 @@ every step at its time from the start, drawn from a seeded random generator, so 
 - a live setting every 10 s, in turn intensity, tempo, style and the parts switches;
 - in every disabled spell an animate goal: with a duration (it succeeds), until cancelled (cancelled after 4 s) or
   replaced after 3 s by one with a duration (the first ends "replaced", the second succeeds);
-- another node's gesture on the right arm every minute, 5 s after a live setting (it succeeds: the node yields); the
-  drivers send it just after a goal has started on the arm (cssr_system.soak.goal_starts);
+- another node's gesture on the right arm every minute, at a random moment of that minute that ignores the node's
+  goals and the live settings (it succeeds: the node yields, and withholds a goal it would send meanwhile);
 - the simulated Pepper restarted every 10 minutes (its controllers leave and come back), with no animate goal or
   gesture within 15 s of it, so that every one of them has one expected end;
 - the base's listener gone for 30 s every 10 minutes, on its own, half-way between two restarts.
@@ -19,7 +19,7 @@ ENABLE, DISABLE, SETTING, ANIMATE, CANCEL, GESTURE, RESTART, LISTENER = (
 SUCCEEDED_REASON, CANCELLED_REASON, REPLACED_REASON = "duration elapsed", "cancelled", "replaced"
 SPELL = (15.0, 30.0)  # s of each enabled or disabled spell
 SETTING_PERIOD = 10.0  # s between live settings
-GESTURE_PERIOD = 60.0  # s between another node's gestures; the first at half of it and 5 s (between two settings)
+GESTURE_PERIOD = 60.0  # s: one gesture of another node at a random moment of each such period
 RESTART_PERIOD = 600.0  # s between restarts of the simulated Pepper; the first at half of it
 CLEARANCE = 15.0  # s kept between a restart and any animate goal or gesture
 LISTENER_AWAY = 30.0  # s the base's listener stays away
@@ -106,12 +106,11 @@ def churn_schedule(seconds: float, seed: int = 1, restart_period: float = RESTAR
         name, value = SETTINGS[index % len(SETTINGS)]
         steps.append(Step(at, SETTING, {"name": name, "value": value}))
         at, index = at + SETTING_PERIOD, index + 1
-    # Not at the instant of a live setting: the node's new goals would race the gesture's to the controller.
     steps += _listener_steps(seconds, restart_period)
-    at, played = GESTURE_PERIOD / 2.0 + SETTING_PERIOD / 2.0, 0
-    while at < seconds:
-        if _clear_of(at, at + ANIMATE_SPAN, restarts):
-            steps.append(Step(at, GESTURE, {"goal": "gesture-%d" % played}))
-            played += 1
-        at += GESTURE_PERIOD
+    minute = 0.0
+    while minute < seconds:
+        at = minute + rng.uniform(0.0, GESTURE_PERIOD)
+        if at < seconds and _clear_of(at, at + ANIMATE_SPAN, restarts):
+            steps.append(Step(at, GESTURE, {"goal": "gesture-%d" % sum(step.action == GESTURE for step in steps)}))
+        minute += GESTURE_PERIOD
     return sorted(steps, key=lambda step: step.at)
