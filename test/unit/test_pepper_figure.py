@@ -88,7 +88,13 @@ def test_the_check_is_quiet_at_the_shipped_ranges_and_names_the_key_past_the_lar
     assert close_hand_warnings(shipped) == []
     assert close_hand_warnings(largest_quiet) == []
     [line] = close_hand_warnings(largest_quiet._replace(selected_range=largest_quiet.selected_range + 0.05))
-    assert line.split(" ", 1)[0] in ("armMaximumRange", "legMaximumRange") and "hand within" in line
+    assert line.split(" ", 1)[0] in ("armMaximumRange", "speakingArmRange", "legMaximumRange") and "hand within" in line
+
+
+def test_the_check_names_speakings_own_bands_when_they_bring_a_hand_too_close():
+    shipped = load_configuration(shipped_configuration_path(), {"behaviour": "body"})
+    [line] = close_hand_warnings(shipped._replace(speaking_arm_range=(1.0,) * 5))
+    assert line.startswith("speakingArmRange ") and "hand within" in line
 
 
 @pytest.mark.parametrize("style", ["random", "breathing"])

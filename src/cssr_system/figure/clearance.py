@@ -63,16 +63,21 @@ def band_clearance(config, leg_held: bool = False) -> Optional[BandClearance]:
 
 
 def close_hand_warnings(config, margin: float = HAND_MARGIN) -> List[str]:
-    """One line naming the key whose bands bring a hand within `margin` of the body (at intensity 1), else none."""
+    """One line naming the key whose bands bring a hand within `margin` of the body (at intensity 1), else none: the
+    arms' bands of the idle and listening modes (`armMaximumRange`; listening's are narrower), then speaking's
+    (`speakingArmRange`, README "Modes")."""
     widest = config._replace(intensity=1.0)
-    band = band_clearance(widest)
-    if band is None or band.closest.distance >= margin:
-        return []
-    found = band.closest
-    key = "armMaximumRange" if band_clearance(widest, leg_held=True).closest.distance < margin else "legMaximumRange"
-    return ["%s (with selectedRange %g) brings the %s within %.1f cm of the %s in its band (margin %.0f cm): "
-            "lower it, or selectedRange" % (key, config.selected_range, found.solid, 100 * max(found.distance, 0.0),
-                                            found.other, 100 * margin)]
+    for arm_key, bands in (("armMaximumRange", widest),
+                           ("speakingArmRange", widest._replace(arm_maximum_range=widest.speaking_arm_range))):
+        band = band_clearance(bands)
+        if band is None or band.closest.distance >= margin:
+            continue
+        found = band.closest
+        key = arm_key if band_clearance(bands, leg_held=True).closest.distance < margin else "legMaximumRange"
+        return ["%s (with selectedRange %g) brings the %s within %.1f cm of the %s in its band (margin %.0f cm): "
+                "lower it, or selectedRange" % (key, config.selected_range, found.solid,
+                                                100 * max(found.distance, 0.0), found.other, 100 * margin)]
+    return []
 
 
 def recorded_clearances(names: Sequence[str], positions: numpy.ndarray,

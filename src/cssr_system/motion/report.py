@@ -378,9 +378,10 @@ def ease_in_report(config_file: str, seed: int) -> Dict[str, Dict[str, Dict[str,
     return result
 
 
-def style_clearances(config, seconds: float, seed: int):
-    """(times, each arm's smallest clearance) of the style's commanded run at intensity 1 (`figure.clearance`)."""
-    times, names, commanded = commanded_run(config._replace(intensity=1.0), seconds, seed)
+def style_clearances(config, seconds: float, seed: int, mode: str = IDLE):
+    """(times, each arm's smallest clearance) of the style's commanded run in `mode` at intensity 1
+    (`figure.clearance`)."""
+    times, names, commanded = commanded_run(config._replace(intensity=1.0), seconds, seed, mode)
     return times, recorded_clearances(names, commanded)
 
 
@@ -395,8 +396,8 @@ def clearance_configurations(config_file: str) -> List[Tuple[str, Dict[str, obje
 
 
 def clearance_report(config_file: str, seconds: float, seed: int) -> List[str]:
-    """Lines: per configuration, the hands' closest approach anywhere in their bands and, per style, each arm's
-    smallest clearance over the commanded run, with the pair of solids and the instant."""
+    """Lines: per configuration, the hands' closest approach anywhere in their bands and, per style and mode, each
+    arm's smallest clearance over the commanded run, with the pair of solids and the instant."""
     lines = ["== clearance of the arms (body model of doc/figure.md; intensity 1; %.0f s, seed %d; warning under "
              "%.0f cm)" % (seconds, seed, 100 * HAND_MARGIN)]
     for title, overrides in clearance_configurations(config_file):
@@ -404,9 +405,9 @@ def clearance_report(config_file: str, seconds: float, seed: int) -> List[str]:
         band = band_clearance(config._replace(intensity=1.0)).closest
         lines.append("%s: a hand anywhere in its band %.1f cm (%s - %s)" % (title, 100 * band.distance, band.solid,
                                                                             band.other))
-        for style in ("random", "breathing"):
-            times, found = style_clearances(config._replace(motion_style=style), seconds, seed)
-            lines.extend("  %-9s %s" % (style, line) for line in per_arm_lines(found, times))
+        for style, mode in [(style, mode) for style in ("random", "breathing") for mode in MODES]:
+            times, found = style_clearances(config._replace(motion_style=style), seconds, seed, mode)
+            lines.extend("  %-9s %-9s %s" % (style, mode, line) for line in per_arm_lines(found, times))
     return lines
 
 
