@@ -3,8 +3,9 @@
 `Conversation.play` runs the script once: ``true`` on the listening topic for `LISTEN_FOR` s, then a goal of its own
 speaking action for `SPEAK_FOR` s (``false`` on the topic just after the goal starts: `HANDOVER`), then nothing. The
 animateBehaviour node of the demo watches that topic (``listeningTopic``) and that action's status
-(``speakingAction``) in mode ``auto`` (README: "Modes"), so it listens and speaks with no call to it. A subclass gives what needs a ROS (``cssr_system.ros1.speech_player``,
-``cssr_system.ros2.speech_player``): publishing on the topic and running a goal. Pure Python: no ROS import.
+(``speakingAction``) in mode ``auto`` (README: "Modes"), so it listens and speaks with no call to it. A subclass
+gives what needs a ROS (``cssr_system.ros1.speech_player``, ``cssr_system.ros2.speech_player``): publishing on the
+topic and running a goal. Pure Python: no ROS import.
 """
 import functools
 import threading
