@@ -3,11 +3,11 @@
 
 # make demo DURATION=10 PLATFORM=simulator BEHAVIOUR=hands OUTPUT_DIR=/tmp/demo GESTURE=1
 #           STYLE=breathing DRIVER=naoqi_dcm NODE_ARGS="_gestureDuration:=1.5" SIM_ARGS="..." INTERACTION=1
-#           ACTUATION=joint_angles ROS=2   (ROS=2: the same demo on ROS 2, tools/demo_ros2.sh)
+#           ACTUATION=joint_angles CONVERSATION=1 ROS=2   (ROS=2: the same demo on ROS 2, tools/demo_ros2.sh)
 #           ROBOTS=2   (two robots in robot1 and robot2, one plot of both)
 # or DEMO_DURATION, DEMO_PLATFORM, ... in the environment (the short names only from the command line:
 # environments often hold an unrelated PLATFORM).
-DEMO_OPTIONS := DURATION PLATFORM BEHAVIOUR OUTPUT_DIR GESTURE STYLE DRIVER NODE_ARGS SIM_ARGS INTERACTION ACTUATION ROS ROBOTS
+DEMO_OPTIONS := DURATION PLATFORM BEHAVIOUR OUTPUT_DIR GESTURE STYLE DRIVER NODE_ARGS SIM_ARGS INTERACTION ACTUATION ROS ROBOTS CONVERSATION
 demo:
 	$(foreach option,$(DEMO_OPTIONS),$(if $(filter command line,$(origin $(option))),DEMO_$(option)='$(subst ','\'',$($(option)))')) \
 	bash tools/demo.sh

@@ -9,15 +9,16 @@
 #   make demo NODE_ARGS="_gestureDuration:=1.5" SIM_ARGS="_feedback_rate:=20"
 #   make demo STYLE=breathing DRIVER=naoqi_dcm   (the breathing style, executed as the robot's driver would)
 #   make demo INTERACTION=1           half-way, the engaged preset (intensity 0.5, base still)
+#   make demo CONVERSATION=1          a stand-in speech node listens 6 s, then speaks 8 s; the node follows it
 #   make demo STYLE=breathing ACTUATION=joint_angles   (streamed to the simulated Pepper run as naoqi_driver)
 #   make demo ROBOTS=2                two robots in robot1 and robot2 (launch/animateBehaviourDemoRobots.launch),
 #                                     robot2 enabled 5 s after robot1; one plot of both, robots.png
 # Environment (what the make variables set): DEMO_DURATION (s, default 30), DEMO_PLATFORM (robot or
 # simulator, default robot), DEMO_BEHAVIOUR (default all), DEMO_OUTPUT_DIR (default: the workspace's demo
 # folder), DEMO_GESTURE (1: a gesture on the right arm half-way), DEMO_INTERACTION (1: the engaged preset
-# half-way), DEMO_ACTUATION (trajectory or joint_angles), DEMO_NODE_ARGS and DEMO_SIM_ARGS
-# (private parameters of the node and of the simulated Pepper, `_name:=value` words; the leading `_` may
-# be left out), DEMO_MASTER_URI (default: a master of its own on a free port, so a master you run is
+# half-way), DEMO_CONVERSATION (1: the scripted conversation, mode auto), DEMO_ACTUATION (trajectory or
+# joint_angles), DEMO_NODE_ARGS and DEMO_SIM_ARGS (private parameters of the node and of the simulated
+# Pepper, `_name:=value` words; the leading `_` may be left out), DEMO_MASTER_URI (default: a master of its own on a free port, so a master you run is
 # never touched), DEMO_ROS (2: the demo on ROS 2, tools/demo_ros2.sh), DEMO_ROBOTS (1 or 2).
 # Exit status: 0 when the run completed, 1 when something did not start or failed, 130 on Ctrl-C.
 #
@@ -59,7 +60,7 @@ private_parameters() {
 DEMO_NODE_ARGS=$(private_parameters "${DEMO_NODE_ARGS:-}" NODE_ARGS)
 DEMO_SIM_ARGS=$(private_parameters "${DEMO_SIM_ARGS:-}" SIM_ARGS)
 export DEMO_NODE_ARGS DEMO_SIM_ARGS
-# GESTURE=1 and INTERACTION=1: true or false for the launch.
+# GESTURE=1, INTERACTION=1 and CONVERSATION=1: true or false for the launch.
 switch() {
   case $2 in
     1|true|yes) echo true ;;
@@ -77,16 +78,18 @@ case ${DEMO_ACTUATION:-}/${DEMO_DRIVER:-naoqi_driver} in
   *) echo "demo: error: ACTUATION=${DEMO_ACTUATION} (expected trajectory or joint_angles)" >&2; exit 1 ;;
 esac
 interaction=$(switch INTERACTION "${DEMO_INTERACTION:-0}")
+conversation=$(switch CONVERSATION "${DEMO_CONVERSATION:-0}")
 output_dir=$(mkdir -p "${DEMO_OUTPUT_DIR:-$WORKSPACE_DIR/demo}" && cd "${DEMO_OUTPUT_DIR:-$WORKSPACE_DIR/demo}" && pwd)
 launch_log="$output_dir/roslaunch.log"
 outcome_file="$output_dir/demo_outcome.txt"
 rm -f "$outcome_file" "$outcome_file.robot1"
 case ${DEMO_ROBOTS:-1} in
-  1) launch=(animateBehaviourDemo.launch gesture:="$gesture" interaction:="$interaction"
+  1) launch=(animateBehaviourDemo.launch gesture:="$gesture" interaction:="$interaction" conversation:="$conversation"
              actuation:="${DEMO_ACTUATION:-}" log_file:="$output_dir/animateBehaviourLogFile.log")
      drivers=(/animateBehaviourDemo) ;;
-  2) [ "$gesture$interaction${DEMO_ACTUATION:-}" = falsefalse ] || {
-       echo "demo: error: ROBOTS=2 runs the plain demo on each robot (no GESTURE, INTERACTION or ACTUATION)" >&2
+  2) [ "$gesture$interaction$conversation${DEMO_ACTUATION:-}" = falsefalsefalse ] || {
+       echo "demo: error: ROBOTS=2 runs the plain demo on each robot (no GESTURE, INTERACTION, CONVERSATION or" \
+         "ACTUATION)" >&2
        exit 1; }
      launch=(animateBehaviourDemoRobots.launch)
      drivers=(/robot1/animateBehaviourDemo /robot2/animateBehaviourDemo) ;;

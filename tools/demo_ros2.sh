@@ -7,15 +7,16 @@
 #   make demo ROS=2 DURATION=10 PLATFORM=simulator BEHAVIOUR=hands OUTPUT_DIR=/tmp/demo STYLE=breathing
 #   make demo ROS=2 DRIVER=naoqi_dcm INTERACTION=1 NODE_ARGS="gestureDuration:=1.5" SIM_ARGS="feedback_rate:=20"
 #   make demo ROS=2 STYLE=breathing ACTUATION=joint_angles
+#   make demo ROS=2 CONVERSATION=1   (a stand-in speech node listens 6 s, then speaks 8 s; the node follows it)
 # Environment: the DEMO_<option> variables of tools/demo.sh but DEMO_MASTER_URI (no master); NODE_ARGS and
 # SIM_ARGS words become ROS 2 parameters (`-p name:=value`).
 # DEMO_DOMAIN_ID: the ROS_DOMAIN_ID to use (default: one that no process of this machine uses).
 # Exit status: 0 when the run completed, 1 when something did not start or failed, 130 on Ctrl-C.
 #
-# No ROS 2 launch here (PyPI has none): this script starts the four programs, each in a session of its own, so
-# Ctrl-C reaches this script only. On Ctrl-C it sends SIGINT to the driver, which disables the node and exits; then
-# SIGINT stops the others (the recorder writes the plot). Each gets one SIGINT: Python restores the default action
-# as it exits, so a second one could kill a program that is ending well.
+# No ROS 2 launch here (PyPI has none): this script starts the four programs (and the gesture player, the speech
+# node), each in a session of its own, so Ctrl-C reaches this script only. On Ctrl-C it sends SIGINT to the driver,
+# which disables the node and exits; then SIGINT stops the others (the recorder writes the plot). Each gets one
+# SIGINT: Python restores the default action as it exits, so a second one could kill a program that is ending well.
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 cd "$REPO_DIR"
@@ -38,9 +39,15 @@ case ${DEMO_GESTURE:-0} in
   0|false|no) gesture=false ;;
   *) echo "demo: error: GESTURE=${DEMO_GESTURE} (expected 1 or 0)" >&2; exit 1 ;;
 esac
-case ${DEMO_ROBOTS:-1}/${DEMO_INTERACTION:-0}${DEMO_ACTUATION:-}$gesture in
-  1/*|2/0false|2/falsefalse|2/nofalse) ;;
-  2/*) echo "demo: error: ROBOTS=2 runs the plain demo on each robot (no GESTURE, INTERACTION or ACTUATION)" >&2
+case ${DEMO_CONVERSATION:-0} in
+  1|true|yes) conversation=true ;;
+  0|false|no) conversation=false ;;
+  *) echo "demo: error: CONVERSATION=${DEMO_CONVERSATION} (expected 1 or 0)" >&2; exit 1 ;;
+esac
+case ${DEMO_ROBOTS:-1}/${DEMO_INTERACTION:-0}${DEMO_ACTUATION:-}$gesture$conversation in
+  1/*|2/0falsefalse|2/falsefalsefalse|2/nofalsefalse) ;;
+  2/*) echo "demo: error: ROBOTS=2 runs the plain demo on each robot (no GESTURE, INTERACTION, CONVERSATION or" \
+         "ACTUATION)" >&2
        exit 1 ;;
   *) echo "demo: error: ROBOTS=${DEMO_ROBOTS} (expected 1 or 2)" >&2; exit 1 ;;
 esac
@@ -54,6 +61,8 @@ node_parameters=(-p "platform:=$platform" -p "behaviour:=${DEMO_BEHAVIOUR:-all}"
 # As launch/animateBehaviourDemo.launch sets them, so both ROS judge the goals alike.
 sim_parameters=(-p "platform:=$platform" -p velocity_report:=commanded)
 [ -z "${DEMO_STYLE:-}" ] || node_parameters+=(-p "motionStyle:=$DEMO_STYLE")
+# The stand-in speech node's names (src/cssr_system/demo/speech.py), relative as its own are.
+[ "$conversation" = false ] || node_parameters+=(-p mode:=auto -p listeningTopic:=listening -p speakingAction:=tts)
 [ -z "${DEMO_DRIVER:-}" ] || sim_parameters+=(-p "driver:=$DEMO_DRIVER")
 # ACTUATION=joint_angles: the simulated Pepper runs as naoqi_driver, the only driver model that executes it.
 case ${DEMO_ACTUATION:-}/${DEMO_DRIVER:-naoqi_driver} in
@@ -155,8 +164,13 @@ for index in "${!robots[@]}"; do
     start cssr_system.ros2.gesture_player --ros-args "${namespace[@]}" -p "platform:=$platform"
     players+=($!) started+=($!)
   fi
+  if [ "$conversation" = true ]; then  # a stand-in speech node: listens, then speaks, when the driver says
+    start cssr_system.ros2.speech_player --ros-args "${namespace[@]}"
+    players+=($!) started+=($!)
+  fi
   start cssr_system.ros2.demo_driver --ros-args "${namespace[@]}" -p "duration:=${DEMO_DURATION:-30}" \
     -p "delay:=$((index * 5)).0" -p "platform:=$platform" -p "interaction:=$interaction" -p "gesture:=$gesture" \
+    -p "conversation:=$conversation" \
     -p "log_file:=$folder/animateBehaviourLogFile.log" -p "outcome_file:=$folder/demo_outcome.txt"
   drivers+=($!) started+=($!)
 done

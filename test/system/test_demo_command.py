@@ -1,6 +1,7 @@
 """The README's demo command (tools/demo.sh, i.e. `make demo`) with short durations: a plain run, a run with
-GESTURE=1 and a run stopped with Ctrl-C. Each leaves a valid PNG and recording, a completed one Pepper's figure (an
-animated GIF) beside them, and no process it started survives."""
+GESTURE=1 and CONVERSATION=1 (the gesture while the robot speaks) and a run stopped with Ctrl-C. Each leaves a valid
+PNG and recording, a completed one Pepper's figure (an animated GIF) beside them, and no process it started
+survives."""
 import os
 import signal
 import socket
@@ -15,6 +16,9 @@ REPO_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 DEMO_DURATION = 4
 GESTURE_STATES = ("SUCCEEDED", "PREEMPTED", "ABORTED", "REJECTED", "RECALLED", "LOST")
+# The conversation (src/cssr_system/demo/speech.py): from 2 s after the enable, listening 6 s, speaking 8 s; 1 s of
+# idle motion after it. Its gesture comes half-way, at 8.5 s, while the robot speaks.
+CONVERSATION_DURATION = 17
 
 
 def workspace_sourced():
@@ -161,8 +165,25 @@ def test_demo_runs_records_plots_and_leaves_nothing_behind(tmp_path):
     assert numpy.all(numpy.isfinite(commanded.positions[commanded.times > enabled_at + 0.5]))
 
 
-def test_demo_with_a_gesture_marks_it_and_prints_its_result(tmp_path):
-    status, output, _ = run_demo(tmp_path, DURATION=DEMO_DURATION, GESTURE=1)
+def check_conversation(output, recording):
+    """The stand-in speech node listened, then spoke, then fell silent; the live lines and the recording's modes
+    (from the node's status) followed it: listening from 2 s after the enable for about 6 s, then speaking for about 8
+    s, then idle."""
+    assert "animateBehaviourDemoSpeech: listening for 6 s" in output, output
+    assert "animateBehaviourDemoSpeech: silent: the speaking goal ended (SUCCEEDED)" in output, output
+    said = [line.split("mode: ")[1].split()[0] for line in status_lines(output) if "mode: " in line]
+    assert [mode for index, mode in enumerate(said) if index == 0 or mode != said[index - 1]] == \
+        ["idle", "listening", "speaking", "idle"], output
+    from cssr_system.recording.recording import mode_spans  # after the skip: needs the workspace
+    enabled_at = recording.activations[0][0]
+    spans = [(start - enabled_at, end - start, mode) for start, end, mode in mode_spans(recording)]
+    assert [mode for _, _, mode in spans] == ["idle", "listening", "speaking", "idle"], spans
+    (listening_at, listening, _), (_, speaking, _) = spans[1:3]
+    assert 1.5 < listening_at < 3.0 and 5.5 < listening < 7.0 and 7.5 < speaking < 9.0, spans
+
+
+def test_demo_with_a_gesture_in_a_conversation_marks_it_and_prints_its_result(tmp_path):
+    status, output, _ = run_demo(tmp_path, DURATION=CONVERSATION_DURATION, GESTURE=1, CONVERSATION=1)
     assert status == 0, output
     started = [line for line in output.splitlines() if "gesture on the right arm started" in line]
     ended = [line for line in output.splitlines() if "gesture on the right arm ended after" in line]
@@ -171,11 +192,12 @@ def test_demo_with_a_gesture_marks_it_and_prints_its_result(tmp_path):
     assert result in GESTURE_STATES, ended[0]
 
     recording = check_plot_and_recording(output, tmp_path)
+    check_conversation(output, recording)
     enabled_at = recording.activations[0][0]
     assert len(recording.marks) == 1, recording.marks
     mark = recording.marks[0]
     assert mark.part == "RArm" and mark.label == "/animateBehaviourDemoGesture: " + result
-    assert DEMO_DURATION / 2.0 - 0.5 < mark.start - enabled_at < DEMO_DURATION / 2.0 + 1.5  # half-way
+    assert CONVERSATION_DURATION / 2.0 - 0.5 < mark.start - enabled_at < CONVERSATION_DURATION / 2.0 + 1.5
     assert mark.start < mark.end <= mark.start + 4.0 + 1.0  # a 4 s gesture, or less when preempted
 
 

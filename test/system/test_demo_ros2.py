@@ -1,8 +1,9 @@
 """The demo on ROS 2 (`make demo ROS=2`, tools/demo_ros2.sh) with short durations: a plain run, a run with another
-node's gesture, and a run stopped with Ctrl-C. Each leaves a valid PNG and a recording whose joints moved within the
-bands of the node's log, with the node's commanded lines as on ROS 1, a completed one Pepper's figure beside them,
-and no process it started survives. On the distribution CSSR_ROS2_DISTRO names (tools/ros2/env.sh: Jazzy by
-default). Skipped only where tools/ros2/setup.sh cannot make the ROS 2 environment."""
+node's gesture while the stand-in speech node's conversation has the robot speak, and a run stopped with Ctrl-C.
+Each leaves a valid PNG and a recording whose joints moved within the bands of the node's log, with the node's
+commanded lines as on ROS 1, a completed one Pepper's figure beside them, and no process it started survives. On
+the distribution CSSR_ROS2_DISTRO names (tools/ros2/env.sh: Jazzy by default). Skipped only where
+tools/ros2/setup.sh cannot make the ROS 2 environment."""
 import os
 import subprocess
 import uuid
@@ -10,7 +11,8 @@ import uuid
 import numpy
 import pytest
 
-from test_demo_command import check_plot_and_recording, run_in_process_group, status_lines
+from test_demo_command import (CONVERSATION_DURATION, check_conversation, check_plot_and_recording,
+                               run_in_process_group, status_lines)
 
 REPO_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 DEMO_DURATION = 6
@@ -114,9 +116,9 @@ def test_ctrl_c_disables_the_node_first_stops_everything_and_still_plots(ros2_en
     assert disabled < names.index("node_stopped"), "the node was stopped before it was disabled"
 
 
-def test_the_ros2_demo_with_a_gesture_yields_to_it_and_the_gesture_succeeds(ros2_environment, tmp_path):
-    status, output, _ = run_demo(["make", "demo", "ROS=2", "GESTURE=1", "DURATION=%d" % DEMO_DURATION,
-                                  "OUTPUT_DIR=%s" % tmp_path], tmp_path)
+def test_the_ros2_demo_with_a_gesture_in_a_conversation_yields_to_it_and_it_succeeds(ros2_environment, tmp_path):
+    status, output, _ = run_demo(["make", "demo", "ROS=2", "GESTURE=1", "CONVERSATION=1",
+                                  "DURATION=%d" % CONVERSATION_DURATION, "OUTPUT_DIR=%s" % tmp_path], tmp_path)
     assert status == 0, output
     assert "animateBehaviourDemoGesture: gesture on the right arm started" in output, output
     assert any("yielding: right arm to /animateBehaviourDemoGesture" in line for line in status_lines(output)), output
@@ -125,10 +127,11 @@ def test_the_ros2_demo_with_a_gesture_yields_to_it_and_the_gesture_succeeds(ros2
 
     # The node's commanded right arm stops where the gesture begins, which is marked.
     recording = check_plot_and_recording(output, tmp_path)
+    check_conversation(output, recording)
     enabled_at = recording.activations[0][0]
     assert [(mark.part, mark.label) for mark in recording.marks] == [("RArm", "/animateBehaviourDemoGesture: goal")]
     mark = recording.marks[0]
-    assert DEMO_DURATION / 2.0 - 0.5 < mark.start - enabled_at < DEMO_DURATION / 2.0 + 1.5  # half-way
+    assert CONVERSATION_DURATION / 2.0 - 0.5 < mark.start - enabled_at < CONVERSATION_DURATION / 2.0 + 1.5
     commanded = recording.commanded
     right, left = (commanded.joint_names.index(name) for name in ("RShoulderPitch", "LShoulderPitch"))
     during = (commanded.times > mark.start + 0.1) & (commanded.times < mark.start + 3.5)

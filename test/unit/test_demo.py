@@ -1,10 +1,15 @@
-"""Unit tests of the demo's pure parts: the gesture the gesture player sends, the live lines and the run's schedule."""
+"""Unit tests of the demo's pure parts: the gesture the gesture player sends, the conversation the speech node plays,
+the live lines and the run's schedule."""
+import threading
+import time
+
 import numpy
 import pytest
 
+from cssr_system.demo import speech
 from cssr_system.demo.gesture import GESTURE_DURATION, GESTURE_PART, gesture_points
-from cssr_system.demo.live_lines import (DISABLE, GESTURE, LINE, MOVING_COLUMN_WIDTH, LiveWindow,
-                                         schedule, status_line)
+from cssr_system.demo.live_lines import (CONVERSATION, CONVERSATION_START, DISABLE, GESTURE, LINE,
+                                         MOVING_COLUMN_WIDTH, LiveWindow, schedule, status_line)
 from cssr_system.pepper.joint_table import JOINTS, PARTS
 from cssr_system.pepper.trajectory_interpolation import JointTrajectorySpline, sample_trajectory
 
@@ -73,3 +78,52 @@ def test_the_live_line_says_which_parts_yield_and_to_whom():
                        [("right arm", "/animateBehaviourDemoGesture")])
     assert line.endswith("base heading +0.00 rad  yielding: right arm to /animateBehaviourDemoGesture")
     assert "yielding" not in status_line(9, "enabled", names, positions, numpy.array([0.0, 0.0]), 0.0, [])
+
+
+def test_the_live_line_says_the_mode_when_given():
+    names, positions = ("RShoulderPitch",), numpy.array([[1.5], [1.5]])
+    line = status_line(9, "enabled", names, positions, numpy.array([0.0, 0.0]), 0.0,
+                       [("right arm", "/gesture")], "speaking")
+    assert line.endswith("base heading +0.00 rad  mode: speaking  yielding: right arm to /gesture")
+    assert "mode" not in status_line(9, "enabled", names, positions, numpy.array([0.0, 0.0]), 0.0)
+
+
+def test_the_schedule_starts_the_conversation_after_some_idle_motion():
+    events = schedule(20.0, 3.0, gesture=False, conversation=True)
+    assert (CONVERSATION_START, CONVERSATION) in events
+    assert events.index((CONVERSATION_START, CONVERSATION)) == events.index((CONVERSATION_START, LINE)) + 1
+    assert all(what != CONVERSATION for _, what in schedule(20.0, 3.0, gesture=False))
+
+
+class ScriptedSpeech(speech.Conversation):
+    """The script's calls, in order, with their times; the goal ends after `seconds`, as the server's would."""
+
+    def __init__(self):
+        super().__init__(threading.Event())
+        self.calls = []
+        self.start = time.monotonic()
+
+    def set_listening(self, listening):
+        self.calls.append((round(time.monotonic() - self.start, 1), "listening", listening))
+
+    def speak(self, seconds, done):
+        self.calls.append((round(time.monotonic() - self.start, 1), "speak", seconds))
+        threading.Timer(seconds, done, ["SUCCEEDED"]).start()
+
+
+def test_the_conversation_listens_then_speaks_with_listening_ending_once_speaking_has_begun(monkeypatch, capsys):
+    monkeypatch.setattr(speech, "LISTEN_FOR", 0.3)
+    monkeypatch.setattr(speech, "SPEAK_FOR", 0.4)
+    monkeypatch.setattr(speech, "HANDOVER", 0.1)
+    script = ScriptedSpeech()
+    script.play()
+    assert [call[1:] for call in script.calls] == [("listening", True), ("speak", 0.4), ("listening", False)]
+    assert [call[0] for call in script.calls] == [0.0, 0.3, 0.4]
+    assert "silent: the speaking goal ended (SUCCEEDED)" in capsys.readouterr().out
+
+
+def test_a_stop_while_listening_ends_the_listening_and_speaks_no_more(monkeypatch):
+    script = ScriptedSpeech()
+    script.stop.set()
+    script.play()
+    assert [call[1:] for call in script.calls] == [("listening", True), ("listening", False)]

@@ -21,7 +21,7 @@ from cssr_system.recording.plot import plot_recording
 from cssr_system.recording.recording import (RECORDING_FORMAT, plotted_parts, Commanded, JointBand,
                                              Mark, Recording, activations_from_log, band_excess,
                                              bands_from_configuration, bands_from_log,
-                                             heading_excess, moving_parts, read_recording,
+                                             heading_excess, mode_spans, moving_parts, read_recording,
                                              unwrap_heading, write_recording,
                                              yaw_from_quaternion)
 
@@ -212,13 +212,27 @@ def test_optional_fields_round_trip_exactly(tmp_path):
     assert back.marks == recording.marks
 
 
+def test_the_modes_round_trip_and_make_spans_to_the_end_of_the_recording(tmp_path):
+    recording = synthetic_run()._replace(modes=((0.5, "idle"), (2.0, "listening"), (8.0, "speaking"),
+                                                (10.0, "idle")))
+    back = read_recording(write_recording(str(tmp_path / "modes.json"), recording))
+    assert back.modes == recording.modes
+    end = float(recording.times[-1])
+    assert mode_spans(back) == [(0.5, 2.0, "idle"), (2.0, 8.0, "listening"), (8.0, 10.0, "speaking"),
+                                (10.0, end, "idle")]
+    assert mode_spans(synthetic_run()) == []
+    output = plot_recording(back, str(tmp_path / "modes.png"))  # shaded spans and their key
+    with open(output, "rb") as image:
+        assert image.read(8) == PNG_SIGNATURE
+
+
 def test_recordings_without_optional_fields_stay_readable(tmp_path):
     path = write_recording(str(tmp_path / "old.json"), synthetic_run())
     with open(path, encoding="utf-8") as written:
         data = json.load(written)
-    assert "commanded" not in data and "marks" not in data  # absent, as in files written before they existed
+    assert "commanded" not in data and "marks" not in data and "modes" not in data  # as in files written before
     back = read_recording(path)
-    assert back.commanded is None and back.marks == ()
+    assert back.commanded is None and back.marks == () and back.modes == ()
 
 
 def test_a_malformed_commanded_field_is_named(tmp_path):

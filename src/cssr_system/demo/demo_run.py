@@ -3,8 +3,8 @@
 `DemoRun` waits until everything has started, keeps the robot at rest for 1 s, enables the node, prints one line a
 second (`live_lines`), disables the node after the duration and prints for the tail; a stop request (a signal)
 disables the node first. A subclass gives what needs a ROS: the node's activation service (`activate`), what to
-wait for at start (`startup_waits`), and the engaged preset and the gesture when the run has them. `drive` runs it
-and says how it ended. Pure Python: no ROS import.
+wait for at start (`startup_waits`), and the engaged preset, the gesture and the conversation when the run has them.
+`drive` runs it and says how it ended. Pure Python: no ROS import.
 """
 import functools
 import signal
@@ -16,7 +16,7 @@ from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour import console
 from cssr_system.animate_behaviour.contract import DISABLED, ENABLED, REPLY_SUCCESS
 from cssr_system.animate_behaviour.event_log import read_log
-from cssr_system.demo.live_lines import DISABLE, ENGAGED, GESTURE, LiveWindow, schedule, status_line
+from cssr_system.demo.live_lines import CONVERSATION, DISABLE, ENGAGED, GESTURE, LiveWindow, schedule, status_line
 
 NODE_NAME = "animateBehaviourDemo"
 say = functools.partial(console.say, NODE_NAME)
@@ -39,15 +39,16 @@ class Interrupted(Exception):
 class DemoRun:
     """The run; `log_file`: the node's log, where the reason for a refused enable is (None: unknown); `delay`: s
     more at rest before the enable (a second robot enabled after the first); `name`: the driver's resolved name,
-    which its lines begin with (in a namespace, e.g. /robot1/animateBehaviourDemo, they say which robot)."""
+    which its lines begin with (in a namespace, e.g. /robot1/animateBehaviourDemo, they say which robot);
+    `conversation`: the stand-in speech node plays its conversation, and the lines say the node's mode."""
 
     def __init__(self, duration: float, tail: float, startup_timeout: float, log_file: Optional[str],
                  gesture: bool = False, interaction: bool = False, delay: float = 0.0,
-                 name: str = "/" + NODE_NAME) -> None:
+                 name: str = "/" + NODE_NAME, conversation: bool = False) -> None:
         self.name = name.lstrip("/")
         self.robot = name.strip("/").rpartition("/")[0]  # the namespace, "" at the root
         self.duration, self.tail, self.gesture, self.interaction = duration, tail, gesture, interaction
-        self.delay = delay
+        self.delay, self.conversation = delay, conversation
         self.startup_timeout = startup_timeout
         self.log_file = log_file
         self.window = LiveWindow()
@@ -57,6 +58,7 @@ class DemoRun:
         self._enabled = False
         self.disabled_early = False  # disabled because a stop was requested
         self.yielding: List[Tuple[str, str]] = []  # (label, caller) of the parts that yield, from the node's status
+        self.mode = ""  # the node's mode, from its status
 
     # -- what a subclass gives ------------------------------------------------------------------
     def activate(self, state: str, timeout: float) -> str:
@@ -72,6 +74,9 @@ class DemoRun:
 
     def play_gesture(self) -> None:
         """Have another node play its gesture (runs with `gesture` only)."""
+
+    def play_conversation(self) -> None:
+        """Have the stand-in speech node play its conversation (runs with `conversation` only)."""
 
     # -- stop requests ----------------------------------------------------------------------------
     def request_stop(self, reason: str) -> None:
@@ -139,7 +144,7 @@ class DemoRun:
         self.enable()
         enabled_at = time.monotonic()
         state = ENABLED
-        for moment, what in schedule(self.duration, self.tail, self.gesture, self.interaction):
+        for moment, what in schedule(self.duration, self.tail, self.gesture, self.interaction, self.conversation):
             self.pause(enabled_at + moment - time.monotonic())
             if what == ENGAGED:
                 self.engage()
@@ -149,9 +154,12 @@ class DemoRun:
                 self.say("disabled after %g s; recording %g s more to show the stop" % (self.duration, self.tail))
             elif what == GESTURE:
                 self.play_gesture()
+            elif what == CONVERSATION:
+                self.play_conversation()
             else:
                 names, positions, headings, heading = self.window.last(time.time(), 1.0)
-                line = status_line(int(moment), state, names, positions, headings, heading, self.yielding)
+                line = status_line(int(moment), state, names, positions, headings, heading, self.yielding,
+                                   self.mode if self.conversation else "")
                 print("%s %s" % (self.robot, line) if self.robot else line, flush=True)
 
     def say(self, text: str) -> None:

@@ -1,6 +1,7 @@
 """The demo's live lines: which parts moved in the last second, and the base heading.
 
 ``   7 s  enabled   moving: right arm, leg, base        base heading +0.12 rad  yielding: right arm to /gesture``
+``   9 s  enabled   moving: right arm, left arm, leg     base heading +0.12 rad  mode: speaking``
 
 `LiveWindow` keeps the last seconds of /joint_states and of the heading (filled from rospy's
 threads, read from the main thread); `status_line` formats one line. Pure Python and numpy: no ROS
@@ -65,27 +66,33 @@ class LiveWindow:
 
 
 def status_line(seconds: int, state: str, joint_names: Sequence[str], positions: numpy.ndarray,
-                headings: numpy.ndarray, heading: Optional[float], yielding: Sequence[Tuple[str, str]] = ()) -> str:
+                headings: numpy.ndarray, heading: Optional[float], yielding: Sequence[Tuple[str, str]] = (),
+                mode: str = "") -> str:
     """The live line of one second: the parts that moved in `positions` (that second's samples),
-    the base when `headings` moved, the latest `heading`, and the parts that yield to another node
-    ((label, caller id) from the node's status topic)."""
+    the base when `headings` moved, the latest `heading`, the node's `mode` when given (from its status topic) and
+    the parts that yield to another node ((label, caller id) from the node's status topic)."""
     moving = moving_parts(joint_names, positions)
     if len(headings) >= 2 and numpy.ptp(headings) > MOTION_THRESHOLD:
         moving.append(BASE_LABEL)
     heading_text = "base heading %+.2f rad" % heading if heading is not None else "base heading: no odometry"
     line = "%4d s  %-8s  moving: %-*s  %s" % (seconds, state, MOVING_COLUMN_WIDTH,
                                               ", ".join(moving) if moving else "nothing", heading_text)
+    if mode:
+        line += "  mode: %s" % mode
     if yielding:
         line += "  yielding: " + ", ".join("%s to %s" % (label, caller) for label, caller in yielding)
     return line
 
 
-LINE, GESTURE, DISABLE, ENGAGED = "line", "gesture", "disable", "engaged"
+LINE, GESTURE, DISABLE, ENGAGED, CONVERSATION = "line", "gesture", "disable", "engaged", "conversation"
+CONVERSATION_START = 2.0  # s after enable: the plot shows idle motion before the robot listens
 
 
-def schedule(duration: float, tail: float, gesture: bool, interaction: bool = False) -> List[Tuple[float, str]]:
+def schedule(duration: float, tail: float, gesture: bool, interaction: bool = False,
+             conversation: bool = False) -> List[Tuple[float, str]]:
     """(seconds after enable, what) of a run: a line every second until `duration` + `tail`, the
-    gesture half-way when asked, the switch to the engaged preset half-way when asked, the disable at
+    gesture half-way when asked, the switch to the engaged preset half-way when asked, the start of the
+    conversation (`cssr_system.demo.speech`) at `CONVERSATION_START` when asked, the disable at
     `duration` (after that second's line)."""
     events = [(float(second), LINE) for second in range(1, int(duration + tail) + 1)]
     events.append((duration, DISABLE))
@@ -93,5 +100,7 @@ def schedule(duration: float, tail: float, gesture: bool, interaction: bool = Fa
         events.append((duration / 2.0, GESTURE))
     if interaction:
         events.append((duration / 2.0, ENGAGED))
-    rank = {LINE: 0, ENGAGED: 1, GESTURE: 2, DISABLE: 3}
+    if conversation:
+        events.append((min(CONVERSATION_START, duration), CONVERSATION))
+    rank = {LINE: 0, ENGAGED: 1, GESTURE: 2, CONVERSATION: 3, DISABLE: 4}
     return sorted(events, key=lambda event: (event[0], rank[event[1]]))

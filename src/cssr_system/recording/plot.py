@@ -22,7 +22,7 @@ from cssr_system.animate_behaviour.contract import ENABLED
 from cssr_system.pepper.joint_table import PARTS, centre_of
 from cssr_system.recording.recording import (BAND_TOLERANCE, Recording, heading_at_time,
                                              band_excess, enabled_intervals,
-                                             heading_excess, plotted_parts,
+                                             heading_excess, mode_spans, plotted_parts,
                                              bands_from_configuration_file, bands_from_log,
                                              read_recording)
 
@@ -66,6 +66,21 @@ def _draw_marks(axis: Any, recording: Recording, part_keys: Sequence[str]) -> No
                                                    edgecolor="none"))
 
 
+# The modes shaded: idle is the motion of every plot, the plain background.
+MODE_COLOURS = {"listening": "tab:cyan", "speaking": "gold"}
+MODE_ALPHA = 0.16
+
+
+def _draw_modes(axis: Any, recording: Recording) -> None:
+    """The spans of the shaded modes, behind the lines, labelled at the top of the panel."""
+    for start, end, mode in mode_spans(recording):
+        if mode not in MODE_COLOURS:
+            continue
+        axis.axvspan(start, end, color=MODE_COLOURS[mode], alpha=MODE_ALPHA, linewidth=0, zorder=0)
+        axis.annotate(mode, xy=(start, 1.0), xycoords=("data", "axes fraction"), xytext=(3, -3),
+                      textcoords="offset points", ha="left", va="top", fontsize=8, color=_darker(MODE_COLOURS[mode]))
+
+
 def time_origin(recording: Recording) -> float:
     """Time shown as 0 in the plot: the first enable, else the start of the recording."""
     enables = [time for time, state in recording.activations if state == ENABLED]
@@ -90,7 +105,8 @@ def plot_recording(recording: Recording, output_path: str, title: Optional[str] 
                                  marks=tuple(mark._replace(start=mark.start - origin, end=mark.end - origin)
                                              for mark in recording.marks),
                                  band_changes=tuple(change._replace(time=change.time - origin)
-                                                    for change in recording.band_changes))
+                                                    for change in recording.band_changes),
+                                 modes=tuple((time - origin, mode) for time, mode in recording.modes))
     parts = plotted_parts(shifted)
     panels = len(parts) + 1  # the base heading last
     columns = 2 if panels > 3 else 1
@@ -103,7 +119,9 @@ def plot_recording(recording: Recording, output_path: str, title: Optional[str] 
         part_keys = [key for key, part in PARTS.items() if part.joints == joints]
         _plot_part(flat_axes[index], shifted, label, joints, colours, part_keys)
         _draw_marks(flat_axes[index], shifted, part_keys)
+        _draw_modes(flat_axes[index], shifted)
     _plot_heading(flat_axes[len(parts)], shifted)
+    _draw_modes(flat_axes[len(parts)], shifted)
     for axis in flat_axes[panels:]:
         axis.set_visible(False)
     enabled = any(state == ENABLED for _, state in recording.activations)
@@ -129,6 +147,9 @@ def plot_recording(recording: Recording, output_path: str, title: Optional[str] 
     if recording.marks:
         key.append(Patch(facecolor=MARK_COLOUR, alpha=MARK_ALPHA,
                          label="another node's goal (label: sender, result), or a change of settings"))
+    shown_modes = {mode for _, _, mode in mode_spans(recording)}
+    key += [Patch(facecolor=colour, alpha=2 * MODE_ALPHA, label="%s (the node's mode)" % mode)
+            for mode, colour in MODE_COLOURS.items() if mode in shown_modes]
     key_rows = 1 if len(key) <= 4 else 2
     figure.legend(handles=key, loc="upper center", ncol=int(math.ceil(len(key) / float(key_rows))), fontsize=9,
                   frameon=False, bbox_to_anchor=(0.5, 0.965))

@@ -33,6 +33,9 @@ Recording file format: one UTF-8 JSON object (extension ``.json``)::
       ],
       "band_changes": [                        # optional: a joint's band from a time on (a change of settings)
         {"time": 10.2, "joint": "RShoulderPitch", "lower": 1.44, "upper": 1.65}
+      ],
+      "modes": [                               # optional: the node's mode from a time on (its status topic)
+        {"time": 0.4, "mode": "idle"}, {"time": 3.1, "mode": "listening"}
       ]
     }
 
@@ -114,6 +117,7 @@ class Recording(NamedTuple):
     commanded: Optional["Commanded"] = None
     marks: Tuple["Mark", ...] = ()
     band_changes: Tuple["BandChange", ...] = ()
+    modes: Tuple[Tuple[float, str], ...] = ()  # (time, mode) at each change of the node's mode, in time order
 
 
 class BandChange(NamedTuple):
@@ -184,6 +188,8 @@ def recording_to_json(recording: Recording) -> Dict[str, Any]:
                                       ("label", mark.label)]) for mark in recording.marks]
     if recording.band_changes:
         data["band_changes"] = [OrderedDict(change._asdict()) for change in recording.band_changes]
+    if recording.modes:
+        data["modes"] = [OrderedDict([("time", float(time)), ("mode", mode)]) for time, mode in recording.modes]
     return data
 
 
@@ -274,6 +280,7 @@ def recording_from_json(data: Any, source: str = "recording") -> Recording:
                                     str(mark.get("part") or "")) for mark in data.get("marks") or [])),
             band_changes=tuple(BandChange(float(change["time"]), str(change["joint"]), float(change["lower"]),
                                           float(change["upper"])) for change in data.get("band_changes") or []),
+            modes=tuple(sorted((float(item["time"]), str(item["mode"])) for item in data.get("modes") or [])),
         )
     except KeyError as error:
         raise ValueError("%s: missing field %s" % (source, error)) from None
@@ -564,6 +571,14 @@ def enabled_intervals(recording: Recording) -> List[Tuple[float, float]]:
     if started is not None:
         intervals.append((started, end))
     return intervals
+
+
+def mode_spans(recording: Recording) -> List[Tuple[float, float, str]]:
+    """(start, end, mode) of each span of one mode of the node: from a change to the next, the last to the end of
+    the recording."""
+    end = float(recording.times[-1]) if len(recording.times) else 0.0
+    ends = [time for time, _ in recording.modes[1:]] + [end]
+    return [(start, max(start, stop), mode) for (start, mode), stop in zip(recording.modes, ends)]
 
 
 def band_excess(recording: Recording, joint_name: str) -> float:

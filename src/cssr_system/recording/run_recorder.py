@@ -3,7 +3,7 @@
 `RunRecorder` keeps samples and events as each recorder node (`recorder_node` on ROS 1,
 ``cssr_system.ros2.recorder_node`` on ROS 2) hands them over from its messages, with wall-clock times relative to
 its start, and when stopped writes ``animation.json`` and ``animation.png`` (`save`), with the activations, bands
-and setting changes of the node's log file.
+and setting changes of the node's log file and the node's modes from its status topic.
 
 Pure Python and numpy (matplotlib for the plot): no ROS import.
 """
@@ -67,6 +67,7 @@ class RunRecorder:
         self.results = []  # type: List[GoalResult]
         self.calls = []  # type: List[SentCall]
         self.references = []  # type: List[ReferenceSample]
+        self.modes = []  # type: List[Tuple[float, str]]
 
     def now(self) -> float:
         """Seconds since the recorder started."""
@@ -116,6 +117,13 @@ class RunRecorder:
             self.references.append(ReferenceSample(self.since_start(stamp), part, tuple(joint_names),
                                                    tuple(positions)))
 
+    def add_mode(self, mode: str) -> None:
+        """The node's mode, from its status topic (published at every change): kept when it changes. Its time is
+        the arrival's: the status of a node started before the recorder is no older than the recording."""
+        with self._lock:
+            if mode and (not self.modes or self.modes[-1][1] != mode):
+                self.modes.append((self.now(), mode))
+
     def has_joint_states(self) -> bool:
         with self._lock:
             return bool(self.rows)
@@ -134,7 +142,7 @@ class RunRecorder:
             heading_times = heading_times[heading_order]
             headings = numpy.array(self.headings, dtype=float)[heading_order]
             goals, cancels, results = list(self.goals), list(self.cancels), list(self.results)
-            calls, references = list(self.calls), list(self.references)
+            calls, references, modes = list(self.calls), list(self.references), list(self.modes)
         first = min(times[0] if len(times) else 0.0, heading_times[0] if len(heading_times) else 0.0)
         since = self.start_epoch - LOG_MARGIN
         activations = tuple((epoch - self.start_epoch - first, state)
@@ -169,7 +177,7 @@ class RunRecorder:
                          positions=positions, heading_times=heading_times - first, headings=headings,
                          activations=activations, bands=bands, heading_bound=heading_bound, info=info,
                          heading_topic=self.heading_topic, commanded=commanded, marks=marks,
-                         band_changes=band_changes)
+                         band_changes=band_changes, modes=tuple((moment - first, mode) for moment, mode in modes))
 
     def _commanded(self, goals, cancels, calls, measured: Measured) -> Optional[Commanded]:
         """What the node commanded: its setAngles calls (actuation joint_angles), else its goals as the

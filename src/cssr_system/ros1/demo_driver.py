@@ -1,14 +1,16 @@
 """animateBehaviourDemo: the demo's driver node: enables animateBehaviour, prints what moves, disables it.
 
-rosrun cssr_system animateBehaviourDemo.py [_duration:=30] [_tail:=3] [_gesture:=false]
+rosrun cssr_system animateBehaviourDemo.py [_duration:=30] [_tail:=3] [_gesture:=false] [_conversation:=false]
                                            [_recorder:=/animateBehaviourRecorder] [_outcome_file:=FILE]
 
 It waits (at most ``~startup_timeout`` s, default 40) until the simulated Pepper publishes
 /joint_states, the node's service answers, the recorder (``~recorder``; "" for none) listens to
-/joint_states and, with ``~gesture``, the gesture player listens to its ``play`` topic. After 1 s at
-rest it enables the node through its service, prints one line a second (which parts moved in that
-second, the base heading from odometry), asks the gesture player to play half-way when ``~gesture``
-is true, disables the node after ``~duration`` s, goes on printing for ``~tail`` s more so the return
+/joint_states and, with ``~gesture`` (``~conversation``), the gesture player (the stand-in speech node)
+listens to its ``play`` topic. After 1 s at rest it enables the node through its service, prints one
+line a second (which parts moved in that second, the base heading from odometry, with
+``~conversation`` the node's mode), asks the gesture player to play half-way when ``~gesture`` is
+true and the speech node to play its conversation 2 s after the enable when ``~conversation`` is
+true, disables the node after ``~duration`` s, goes on printing for ``~tail`` s more so the return
 to rest is recorded, then exits: launch/animateBehaviourDemo.launch marks it required, so the whole
 launch ends with it.
 
@@ -40,6 +42,7 @@ from cssr_system.demo.demo_run import (EXIT_FAILED, NODE_NAME, SERVICE_CALL_TIME
                                        STOP_DISABLE_TIMEOUT, DemoError, DemoRun, Wait, drive,
                                        say, service_failure, write_outcome)
 from cssr_system.demo.gesture import PLAY_TOPIC
+from cssr_system.demo.speech import PLAY_TOPIC as CONVERSATION_TOPIC
 from cssr_system.msg import AnimateBehaviourStatus
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
@@ -69,14 +72,16 @@ class DemoDriver(DemoRun):
 
     def __init__(self, node: str, duration: float, tail: float, gesture: bool, recorder: str, startup_timeout: float,
                  setting: Optional[RunSetting], heading_topic: str, interaction: bool = False,
-                 delay: float = 0.0) -> None:
+                 delay: float = 0.0, conversation: bool = False) -> None:
         super().__init__(duration, tail, startup_timeout, setting.log_file if setting is not None else None,
-                         gesture, interaction, delay, rospy.get_name())
+                         gesture, interaction, delay, rospy.get_name(), conversation)
         self.node = node  # the resolved name of the node driven: its service and status are under it
         self.service = contract.interface_of(node, contract.SET_ACTIVATION)
         self.recorder = recorder
         self.setting, self.heading_topic = setting, heading_topic
         self._gesture_publisher = rospy.Publisher(PLAY_TOPIC, Empty, queue_size=1) if gesture else None
+        self._conversation_publisher = (rospy.Publisher(CONVERSATION_TOPIC, Empty, queue_size=1) if conversation
+                                        else None)
         rospy.Subscriber(contract.JOINT_STATES_TOPIC, JointState, self._on_joint_states, queue_size=100)
         rospy.Subscriber(heading_topic, Odometry, self._on_odometry, queue_size=100)
         rospy.Subscriber(contract.interface_of(node, contract.STATUS), AnimateBehaviourStatus, self._on_status,
@@ -96,12 +101,16 @@ class DemoDriver(DemoRun):
     def play_gesture(self) -> None:
         self._gesture_publisher.publish(Empty())
 
+    def play_conversation(self) -> None:
+        self._conversation_publisher.publish(Empty())
+
     def _on_joint_states(self, message: JointState) -> None:
         self.window.add_joint_states(time.time(), message.name, message.position)
 
     def _on_status(self, message: AnimateBehaviourStatus) -> None:
         self.yielding = [(PARTS[part.part].label if part.part in PARTS else BASE_LABEL, part.yielding_to)
                          for part in message.parts if part.state == "yielding"]
+        self.mode = message.mode
 
     def _on_odometry(self, message: Odometry) -> None:
         orientation = message.pose.pose.orientation
@@ -132,6 +141,9 @@ class DemoDriver(DemoRun):
         if self._gesture_publisher is not None:
             waits.append(("the gesture player (%s)" % PLAY_TOPIC,
                           lambda: self._gesture_publisher.get_num_connections() > 0))
+        if self._conversation_publisher is not None:
+            waits.append(("the stand-in speech node (%s)" % CONVERSATION_TOPIC,
+                          lambda: self._conversation_publisher.get_num_connections() > 0))
         return waits
 
     def _service_answers(self) -> bool:
@@ -164,7 +176,8 @@ def main() -> int:
     driver = DemoDriver(node, duration, tail, bool(rospy.get_param("~gesture", False)),
                         rospy.resolve_name(str(rospy.get_param("~recorder", RECORDER_NAME))),
                         float(rospy.get_param("~startup_timeout", 40.0)), setting, heading_topic,
-                        bool(rospy.get_param("~interaction", False)), delay)
+                        bool(rospy.get_param("~interaction", False)), delay,
+                        bool(rospy.get_param("~conversation", False)))
     signal.signal(signal.SIGINT, driver.on_signal)
     signal.signal(signal.SIGTERM, driver.on_signal)
     rospy.core.add_preshutdown_hook(driver.on_ros_shutdown)

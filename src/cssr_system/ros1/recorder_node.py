@@ -5,14 +5,15 @@ rosrun cssr_system animateBehaviourRecorder.py [_output_dir:=DIR] [_node:=/anima
 From its start until it is stopped (Ctrl-C, or roslaunch ending the launch) it records /joint_states,
 the base heading (odometry of the simulated Pepper's platform, ``<namespace>/odom``), the goals,
 cancels and results on every part's FollowJointTrajectory action (the namespaces of the node's topic
-file) and the setAngles calls on its JointAngles topic. When stopped, it reads the node's log file
-for the enable and disable instants and the joints' bands, and writes into ``~output_dir``:
+file), the setAngles calls on its JointAngles topic and the node's mode (its status topic). When
+stopped, it reads the node's log file for the enable and disable instants and the joints' bands, and
+writes into ``~output_dir``:
 
   animation.json   the recording (format: `cssr_system.recording.recording`), with
                    ``commanded`` (what the node commanded: its goals replayed as the controller
                    executes them, or its setAngles calls as naoqi_driver executes them, `commanded`)
                    and ``marks`` (every other node's goal on a part, from its receipt to its result,
-                   and its bursts of setAngles calls)
+                   and its bursts of setAngles calls) and ``modes`` (the node's mode over time)
   animation.png    its plot (`plot`)
 
 and prints both paths. Nothing recorded (no /joint_states): nothing written. What it keeps and writes is
@@ -34,6 +35,7 @@ from sensor_msgs.msg import JointState
 
 from cssr_system.animate_behaviour import contract
 from cssr_system.animate_behaviour.topics import joint_angles_topic
+from cssr_system.msg import AnimateBehaviourStatus
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
 from cssr_system.pepper.trajectory_interpolation import TrajectoryPoint
@@ -79,6 +81,9 @@ class MessageRecorder(RunRecorder):
         status = message.status
         self.add_result(GoalResult(self.now(), part, status.goal_id.id, goal_state_name(status.status)))
 
+    def on_status(self, message: AnimateBehaviourStatus) -> None:
+        self.add_mode(message.mode)
+
     def on_joint_angles(self, message: JointAnglesWithSpeed) -> None:
         self.add_call(SentCall(self.now(), caller_of(message), tuple(message.joint_names),
                                tuple(message.joint_angles), message.speed, message.relative))
@@ -109,6 +114,8 @@ def main() -> int:
     recorder = MessageRecorder(node, setting, heading_topic)
     rospy.Subscriber(contract.JOINT_STATES_TOPIC, JointState, recorder.on_joint_states, queue_size=100)
     rospy.Subscriber(heading_topic, Odometry, recorder.on_odometry, queue_size=100)
+    rospy.Subscriber(contract.interface_of(node, contract.STATUS), AnimateBehaviourStatus, recorder.on_status,
+                     queue_size=10)
     actions = [(key, topics[key]) for key in PARTS if key in topics]
     for key, action in actions:
         rospy.Subscriber(action + "/goal", FollowJointTrajectoryActionGoal, recorder.on_goal, key, queue_size=20)

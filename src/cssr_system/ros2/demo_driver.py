@@ -1,16 +1,19 @@
 """animateBehaviourDemo on ROS 2: the demo's driver: enables animateBehaviour, prints what moves, disables it.
 
   python3 -m cssr_system.ros2.demo_driver --ros-args [-p duration:=30.0] [-p tail:=3.0] [-p delay:=0.0]
-      [-p platform:=robot] [-p interaction:=false] [-p gesture:=false] [-p node:=animateBehaviour]
+      [-p platform:=robot] [-p interaction:=false] [-p gesture:=false] [-p conversation:=false]
+      [-p node:=animateBehaviour]
       [-p recorder:=animateBehaviourRecorder] [-p log_file:=FILE] [-p outcome_file:=FILE] [-p startup_timeout:=40.0]
 
 The run of the ROS 1 driver (`cssr_system.demo.demo_run`), over rclpy, with the node, the recorder and the gesture
 player in its own namespace: it waits (at most ``startup_timeout`` s) until the simulated Pepper publishes
 joint_states, the node's service setActivation is there, the recorder (``recorder``; "" for none) subscribes
-joint_states and every JointAngles topic the node publishes, and with ``gesture`` the gesture player listens; after
-1 s (and ``delay`` s more) at rest it enables the node, prints one line a second (the parts moved in that second, the
-base heading from ``platform``'s odometry, the parts yielding to another node), with ``interaction`` sets the engaged
-preset half-way through the node's parameters, with ``gesture`` has the gesture player play half-way, disables the
+joint_states and every JointAngles topic the node publishes, and with ``gesture`` (``conversation``) the gesture
+player (the stand-in speech node) listens; after 1 s (and ``delay`` s more) at rest it enables the node, prints one
+line a second (the parts moved in that second, the base heading from ``platform``'s odometry, with ``conversation``
+the node's mode, the parts yielding to another node), with ``interaction`` sets the engaged preset half-way through
+the node's parameters, with ``gesture`` has the gesture player play half-way, with ``conversation`` has the speech
+node play its conversation 2 s after the enable, disables the
 node after ``duration`` s, prints for ``tail`` s more so the return to rest is recorded, and exits.
 
 SIGINT or SIGTERM disables the node first, then exits. ``log_file``: the node's log, where a refused enable's
@@ -39,6 +42,7 @@ from cssr_system.animate_behaviour.live_settings import PRESETS, SETTING_KEYS
 from cssr_system.demo.demo_run import (EXIT_FAILED, NODE_NAME, SERVICE_CALL_TIMEOUT,
                                        DemoRun, Wait, drive, say, service_failure, write_outcome)
 from cssr_system.demo.gesture import PLAY_TOPIC
+from cssr_system.demo.speech import PLAY_TOPIC as CONVERSATION_TOPIC
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.pepper.simulated_pepper import PLATFORMS, odometry_topic
 from cssr_system.recording.recording import BASE_LABEL, yaw_from_quaternion
@@ -57,10 +61,11 @@ class DemoDriver(DemoRun):
 
     def __init__(self, node: Node, target: str, duration: float, tail: float, recorder: str, startup_timeout: float,
                  log_file: Optional[str], heading_topic: str, interaction: bool, delay: float = 0.0,
-                 gesture: bool = False) -> None:
+                 gesture: bool = False, conversation: bool = False) -> None:
         super().__init__(duration, tail, startup_timeout, log_file, gesture=gesture, interaction=interaction,
-                         delay=delay, name=node.get_fully_qualified_name())
+                         delay=delay, name=node.get_fully_qualified_name(), conversation=conversation)
         self._gesture = node.create_publisher(Empty, PLAY_TOPIC, 1) if gesture else None
+        self._conversation = node.create_publisher(Empty, CONVERSATION_TOPIC, 1) if conversation else None
         self.node, self.target, self.recorder = node, target, recorder  # full names of the node and the recorder
         self.service = contract.interface_of(target, contract.SET_ACTIVATION)
         self._activation = node.create_client(SetActivation, self.service)
@@ -81,6 +86,7 @@ class DemoDriver(DemoRun):
     def _on_status(self, message: AnimateBehaviourStatus) -> None:
         self.yielding = [(PARTS[part.part].label if part.part in PARTS else BASE_LABEL, part.yielding_to)
                          for part in message.parts if part.state == "yielding"]
+        self.mode = message.mode
 
     # -- the node's services ----------------------------------------------------------------------
     def activate(self, state: str, timeout: float) -> str:
@@ -110,10 +116,16 @@ class DemoDriver(DemoRun):
             waits.append(("the recorder %s" % self.recorder, self.records_the_node))
         if self._gesture is not None:
             waits.append(("the gesture player (%s)" % PLAY_TOPIC, lambda: self._gesture.get_subscription_count() > 0))
+        if self._conversation is not None:
+            waits.append(("the stand-in speech node (%s)" % CONVERSATION_TOPIC,
+                          lambda: self._conversation.get_subscription_count() > 0))
         return waits
 
     def play_gesture(self) -> None:
         self._gesture.publish(Empty())
+
+    def play_conversation(self) -> None:
+        self._conversation.publish(Empty())
 
     def records_the_node(self) -> bool:
         """Whether the recorder subscribes joint_states and every JointAngles topic the node publishes: the node's
@@ -140,7 +152,7 @@ def make_driver(node: Node) -> DemoDriver:
     dynamic = ParameterDescriptor(dynamic_typing=True)
     value = {name: node.declare_parameter(name, default, dynamic).value for name, default in (
         ("duration", 30.0), ("tail", 3.0), ("delay", 0.0), ("platform", "robot"), ("interaction", False),
-        ("gesture", False),
+        ("gesture", False), ("conversation", False),
         ("node", contract.NODE_NAME), ("recorder", RECORDER_NAME), ("log_file", ""), ("startup_timeout", 40.0))}
     duration, tail, delay = (number(value[name], name) for name in ("duration", "tail", "delay"))
     if not duration > 0.0 or tail < 0.0 or delay < 0.0:
@@ -151,7 +163,7 @@ def make_driver(node: Node) -> DemoDriver:
     target, recorder = (node.resolve_topic_name(str(value[name]), only_expand=True) for name in ("node", "recorder"))
     return DemoDriver(node, target, duration, tail, recorder, number(value["startup_timeout"], "startup_timeout"),
                       str(value["log_file"]) or None, heading_topic, value["interaction"] is True, delay,
-                      value["gesture"] is True)
+                      value["gesture"] is True, value["conversation"] is True)
 
 
 def run(node: Node, outcome_file: str, early_stops: List[str]) -> int:

@@ -4,8 +4,8 @@
                                             [-p log_file:=FILE] [-p platform:=simulator]
 
 From its start until SIGINT or SIGTERM it records /joint_states, the base heading (odometry of the simulated
-Pepper's platform, ``<namespace>/odom``), each part's controller state (``<controller>/controller_state``) and the
-setAngles calls on the node's JointAngles topic. When stopped, it
+Pepper's platform, ``<namespace>/odom``), each part's controller state (``<controller>/controller_state``), the
+setAngles calls on the node's JointAngles topic and the node's mode (its status topic). When stopped, it
 reads the node's log file for the enable and disable instants, the joints' bands and the changes of settings, and
 writes ``animation.json`` and ``animation.png`` into ``output_dir``, printing both paths, as the ROS 1 recorder
 does: both hand their samples to `cssr_system.recording.run_recorder`, which writes them. Exit
@@ -34,6 +34,7 @@ import threading
 from typing import Any, Dict, List, Optional
 
 from control_msgs.msg import JointTrajectoryControllerState
+from cssr_system_interfaces.msg import AnimateBehaviourStatus
 from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 from nav_msgs.msg import Odometry
 from rcl_interfaces.msg import ParameterType
@@ -52,6 +53,7 @@ from cssr_system.recording.recording import SETTING_KEYS, RunSetting, run_settin
 from cssr_system.recording.run_recorder import NODE_NAME, RunRecorder, default_output_dir, say
 from cssr_system.ros2.program import on_signals, run_node
 from cssr_system.ros2.rclpy_compat import endpoint_names
+from cssr_system.ros2.status import LATCHED
 from cssr_system.ros2.time_conversion import seconds_of
 
 QUEUE_DEPTH = 100  # /joint_states, odometry and the controllers' states come at 50 Hz: a busy second must not drop
@@ -92,7 +94,10 @@ class MessageRecorder(RunRecorder):
         self._node = node
         self._log_file, self._platform = log_file, platform
         self._subscriptions = [node.create_subscription(JointState, contract.JOINT_STATES_TOPIC,
-                                                        self.on_joint_states, QUEUE_DEPTH)]
+                                                        self.on_joint_states, QUEUE_DEPTH),
+                               node.create_subscription(AnimateBehaviourStatus,
+                                                        contract.interface_of(target, contract.STATUS),
+                                                        lambda message: self.add_mode(message.mode), LATCHED)]
         self._heading_subscribed = False
         if platform:
             self._subscribe_heading(platform)
