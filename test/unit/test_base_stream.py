@@ -128,3 +128,31 @@ def test_the_return_lasts_as_long_as_return_duration_said(topic, stop_after):
     while rig.base.state != StreamState.IDLE and rig.now < stopped_at + 10.0:
         rig.run(0.01)
     assert rig.now - stopped_at == pytest.approx(said, abs=0.02)
+
+
+@pytest.mark.parametrize("topic", [MOVETO, VELOCITY])
+def test_a_base_the_mode_paused_keeps_its_frame_of_enable_and_a_disable_turns_it_back(topic):
+    """Listening and speaking stop the base where it is (README: "Modes"); idle goes on from the heading it had since
+    enable, never from a new zero, so the bound holds; a disable meanwhile turns it back to the heading of enable."""
+    rig = Rig(topic, listened=True)
+    rig.enable()
+    rig.run(4.0)
+    rig.base.park(rig.now)
+    rig.run(3.0)
+    heading = 0.25  # where its turns since enable left it (the planner's frame)
+    rig.base.planner.set_heading(heading)
+    assert rig.base.state == StreamState.IDLE
+    published = len(rig.turns)
+    rig.run(2.0)
+    assert len(rig.turns) == published, "nothing while paused"
+    rig.enable()
+    first = rig.log.events(contract.BASE_COMMAND)[-1]
+    assert first["target_heading"] - first["angle"] == pytest.approx(heading), "idle goes on in the frame of enable"
+    rig.run(6.0)
+    assert abs(rig.base.planner.heading) <= CONFIG.heading_bound + 1e-9
+    rig.base.park(rig.now)
+    rig.run(3.0)
+    rig.base.stop(True, rig.now)
+    assert rig.base.state in (StreamState.HOMING, StreamState.IDLE)
+    rig.run(5.0)
+    assert rig.base.state == StreamState.IDLE and rig.base.planner.heading == pytest.approx(0.0, abs=0.02)

@@ -53,6 +53,7 @@ class BaseStream(MotionStream):
         self._step_started = 0.0
         self._step_ends_at = 0.0
         self._next_sample = 0  # index of the next velocity sample to publish
+        self.parked = False  # the mode paused the turns: the frame of enable is kept (`park`)
 
     @property
     def topic(self) -> str:
@@ -63,8 +64,10 @@ class BaseStream(MotionStream):
         return self.controller
 
     def start(self, config: Configuration, style, rng, now: float) -> None:
-        # Keep the frame of a rotation or return still under way; otherwise start from heading 0.
-        keep = self.planner is not None and (self.state != IDLE or self._step is not None)
+        # Keep the frame of a rotation or return still under way, or of a base the mode paused; otherwise start from
+        # heading 0.
+        keep = self.planner is not None and (self.parked or self.state != IDLE or self._step is not None)
+        self.parked = False
         heading = self.planner.heading if keep else 0.0
         self.planner = BaseRotationPlanner(self.kind, config.rot_maximum_range * style.base_speed_share,
                                            config.heading_bound, rng, pause_range=style.base_pauses)
@@ -84,10 +87,20 @@ class BaseStream(MotionStream):
         else:
             self._drop_pause()
 
+    def park(self, now: float) -> None:
+        """The mode pauses the turns (listening, speaking: README "Modes"): the base stops where it is, and keeps its
+        heading since enable, so that idle goes on in the same frame and a disable still turns it back."""
+        if self.state != IDLE:
+            self.stop(False, now)
+        self.parked = True
+
     def stop(self, return_home: bool, now: float) -> None:
         """Stops at once (an explicit zero on a velocity topic); then, if asked, turns back to the
         heading the base had at enable, once a relative turn under way has ended."""
+        parked, self.parked = self.parked, False
         if self.state == IDLE:
+            if parked and return_home and self.planner is not None:
+                self._return(now, "disabled while the mode paused the turns")
             return
         if self.state == YIELDING:  # another node commands the base: no return now
             self.yielding_to = ""
@@ -103,16 +116,20 @@ class BaseStream(MotionStream):
         elif self._step is not None:
             self._drop_pause()
         if return_home and self.planner is not None:
-            self.transition_to(HOMING, "disabled")
-            if self._step is None:
-                self._begin(self.planner.return_step(), now, PURPOSE_HOME)
+            self._return(now, "disabled")
         else:
             self.transition_to(IDLE, "disabled")
+
+    def _return(self, now: float, why: str) -> None:
+        """Back to the heading of enable, once a relative turn under way has ended."""
+        self.transition_to(HOMING, why)
+        if self._step is None:
+            self._begin(self.planner.return_step(), now, PURPOSE_HOME)
 
     def return_duration(self, now: float) -> float:
         """How long a `stop(True, now)` keeps the base busy until it is back at the heading of enable (s): a relative
         turn under way ends first; a streamed one stops at once and brakes."""
-        if self.state != ANIMATING or self.planner is None:
+        if not (self.state == ANIMATING or self.parked) or self.planner is None:
             return 0.0
         if self._step is None:
             return self.planner.return_time(self.planner.heading)

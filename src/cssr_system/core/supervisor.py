@@ -483,11 +483,16 @@ class Supervisor:
     def _start_base(self, config: Configuration, topics: Dict[str, str], style: MotionStyle) -> Optional[str]:
         """Starts (or keeps) the base turning when the behaviour asks for rotation and the mode lets it; its topic, or
         None."""
-        turns = "rotation" in config.behaviour and config.turn_base and turns_base(style.mode)
+        rotation = "rotation" in config.behaviour and config.turn_base
+        turns = rotation and turns_base(style.mode)
         wheels = topics.get(WHEELS_KEY) if turns else None
         if self.active_base is not None and self.active_base.topic != wheels:
-            # Switched off (or listening, speaking), the base stops where it is; a new platform's returns as on
-            # disable.
+            if rotation and self.active_base.topic == topics.get(WHEELS_KEY):
+                # Listening or speaking: stopped where it is, kept in its frame of enable (idle goes on in it, a
+                # disable turns it back).
+                self.active_base.park(self.clock())
+                return None
+            # Switched off, the base stops where it is; a new platform's returns as on disable.
             self.active_base.stop(config.home_on_disable and turns, self.clock())
             self.active_base = None
         if wheels is not None:
