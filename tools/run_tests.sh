@@ -2,8 +2,8 @@
 # The whole test suite: installs what is missing, builds the workspace and the ROS 2 side, then runs the static
 # checks and the unit tests (pytest), then the system tests and the integration tests (rostest) in three lanes
 # (tools/run_test_job.sh) and, beside them, the ROS 2 tests (pytest in the ROS 2 environment: every one on Jazzy, the
-# node of a colcon build among them, then the harness test and the demo test on Kilted), and ends with `N passed, N
-# failed`.
+# node of a colcon build among them, then the harness, successor and demo tests on Kilted), and ends with `N passed,
+# N failed`.
 # Exits non-zero when any test fails or does not run.
 set -uo pipefail
 source "$(dirname "$0")/common.sh"
@@ -13,7 +13,7 @@ prepare_workspace || exit 1
 rm -rf "$RESULTS_DIR"
 mkdir -p "$RESULTS_DIR/rostest"
 # The ROS 2 side (Jazzy, the default distribution) is made beside the static checks and the unit tests (mostly
-# downloads and one core's builds); Kilted's in the ROS 2 lane below.
+# downloads and one core's builds); Kilted's beside Jazzy's tests in the ROS 2 lane below.
 log_step "ROS 2 side: venv and packages (tools/ros2/setup.sh, in the background; output: $RESULTS_DIR/ros2-setup.out)"
 bash tools/ros2/setup.sh > "$RESULTS_DIR/ros2-setup.out" 2>&1 &
 ros2_setup=$!
@@ -52,14 +52,17 @@ fi
 colcon_test=test/ros2/test_colcon_install_ros2.py
 expected=(checksums.xml unit.xml unit-python38.xml system.xml check-python38.xml check-catkin-lint.xml check-flake8.xml
           check-complexity.xml ros2.xml ros2-kilted.xml demo-ros2-kilted.xml)
-# The ROS 2 lane: every ROS 2 test on Jazzy; then Kilted's set-up, its harness and successor tests and its demo test
-# (on a ROS 2 domain of its own: Jazzy's demo test runs among the system tests). Output: ros2.out, then ros2-kilted.out.
+# The ROS 2 lane: every ROS 2 test on Jazzy; then Kilted's harness and successor tests and, beside them, its demo test
+# (on a ROS 2 domain of its own: Jazzy's demo test runs among the system tests). Kilted's set-up and doc/ros2.md's
+# colcon build are made beside Jazzy's tests. Output: ros2.out, then ros2-kilted.out.
 ros2_lane() {
-  local status=0 colcon
-  # doc/ros2.md's colcon build beside Jazzy's tests (niced: they time their nodes; output ros2-colcon.out), then the
-  # test of the node from that build, whose own call of tools/ros2/colcon_build.sh finds little left to do.
+  local status=0 colcon kilted_setup kilted_demo
+  # Niced: the tests time their nodes. The colcon build's output is ros2-colcon.out; the test of the node from that
+  # build comes after, and its own call of tools/ros2/colcon_build.sh finds little left to do.
   nice -n 10 bash tools/ros2/colcon_build.sh > "$RESULTS_DIR/ros2-colcon.out" 2>&1 &
   colcon=$!
+  CSSR_ROS2_DISTRO=kilted nice -n 10 bash tools/ros2/setup.sh > "$RESULTS_DIR/ros2-kilted-setup.out" 2>&1 &
+  kilted_setup=$!
   {
     bash tools/ros2/run.sh python3 -m pytest test/ros2 -q -p no:cacheprovider -W ignore::DeprecationWarning \
       --ignore="$colcon_test" --junitxml="$RESULTS_DIR/ros2.xml" || status=1
@@ -69,13 +72,19 @@ ros2_lane() {
       --junitxml="$RESULTS_DIR/ros2-colcon.xml" || status=1
   } > "$RESULTS_DIR/ros2.out" 2>&1
   {
-    CSSR_ROS2_DISTRO=kilted bash tools/ros2/setup.sh &&
-      { CSSR_ROS2_DISTRO=kilted bash tools/ros2/run.sh python3 -m pytest test/ros2/test_harness_ros2.py \
-          test/ros2/test_successor_ros2.py -q -p no:cacheprovider -W ignore::DeprecationWarning \
-          --junitxml="$RESULTS_DIR/ros2-kilted.xml"
-        harness=$?
-        CSSR_ROS2_DISTRO=kilted python3 -m pytest test/system/test_demo_ros2.py -q -p no:cacheprovider \
-          --junitxml="$RESULTS_DIR/demo-ros2-kilted.xml" && [ "$harness" = 0 ]; }
+    wait "$kilted_setup" || { tail -n 40 "$RESULTS_DIR/ros2-kilted-setup.out"; exit 1; }
+    tail -n 1 "$RESULTS_DIR/ros2-kilted-setup.out"
+    CSSR_ROS2_DISTRO=kilted python3 -m pytest test/system/test_demo_ros2.py -q -p no:cacheprovider \
+      --junitxml="$RESULTS_DIR/demo-ros2-kilted.xml" > "$RESULTS_DIR/demo-ros2-kilted.out" 2>&1 &
+    kilted_demo=$!
+    CSSR_ROS2_DISTRO=kilted bash tools/ros2/run.sh python3 -m pytest test/ros2/test_harness_ros2.py \
+      test/ros2/test_successor_ros2.py -q -p no:cacheprovider -W ignore::DeprecationWarning \
+      --junitxml="$RESULTS_DIR/ros2-kilted.xml"
+    tests=$?
+    wait "$kilted_demo"
+    demo=$?
+    cat "$RESULTS_DIR/demo-ros2-kilted.out"
+    [ "$tests" = 0 ] && [ "$demo" = 0 ]
   } > "$RESULTS_DIR/ros2-kilted.out" 2>&1 || status=1
   return "$status"
 }
@@ -119,9 +128,10 @@ for job in "${soaks[@]}"; do cat "$RESULTS_DIR/$(basename "$job" .py).line"; don
 
 if [ -n "$ros2_tests" ]; then
   if wait "$ros2_tests"; then
-    echo "  test/ros2 (Jazzy, a colcon build's node among them; the harness and demo tests on Kilted): ok"
+    echo "  test/ros2 (Jazzy, a colcon build's node among them; the harness, successor and demo tests on Kilted): ok"
   else
-    echo "  test/ros2 (Jazzy, a colcon build's node among them; the harness and demo tests on Kilted): FAILED"
+    echo "  test/ros2 (Jazzy, a colcon build's node among them; the harness, successor and demo tests on Kilted):" \
+      "FAILED"
     tail -n 40 "$RESULTS_DIR/ros2.out" "$RESULTS_DIR/ros2-kilted.out"
   fi
 fi
