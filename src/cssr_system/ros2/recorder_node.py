@@ -31,7 +31,7 @@ import functools
 import os
 import sys
 import threading
-from typing import Any, Dict, List, Optional
+from typing import Any, Dict, List, Optional, Set
 
 from control_msgs.msg import JointTrajectoryControllerState
 from cssr_system_interfaces.msg import AnimateBehaviourStatus
@@ -99,8 +99,13 @@ class MessageRecorder(RunRecorder):
                                                         contract.interface_of(target, contract.STATUS),
                                                         lambda message: self.add_mode(message.mode), LATCHED)]
         self._heading_subscribed = False
+        self._state_topics: Set[str] = set()
         if platform:
             self._subscribe_heading(platform)
+            # The controllers' states of the platform's default topics at once, not after the node answers: a
+            # subscription made late, on a busy machine, missed the node's first seconds of goals.
+            default = resolve_setting({}, log_file, platform, target)
+            self._subscribe_states(default.topics if default is not None else {})
         self._client = node.create_client(GetParameters, target.rstrip("/") + "/get_parameters")
         self._asking = False
         self._timer = node.create_timer(PARAMETERS_PERIOD, self._ask_parameters)
@@ -133,15 +138,21 @@ class MessageRecorder(RunRecorder):
         calls = joint_angles_topic(topics)
         self._subscriptions.append(self._node.create_subscription(JointAnglesWithSpeed, calls, self.on_joint_angles,
                                                                   QUEUE_DEPTH))
-        states = [(key, controller_state_topic(topics[key])) for key in PARTS if key in topics]
-        self._subscriptions += [self._node.create_subscription(JointTrajectoryControllerState, topic,
-                                                               functools.partial(self.on_controller_state, key),
-                                                               QUEUE_DEPTH)
-                                for key, topic in states]
+        self._subscribe_states(topics)
         self._node.get_logger().info("recording /joint_states, {}, the states of {} controllers and the calls on {}; "
-                                     "the node's log {}".format(self.heading_topic, len(states), calls,
+                                     "the node's log {}".format(self.heading_topic, len(self._state_topics), calls,
                                                                 self.setting.log_file if self.setting is not None
                                                                 else "unknown"))
+
+    def _subscribe_states(self, topics: Dict[str, str]) -> None:
+        """Each part's controller state in `topics` (the topic file's names), once."""
+        for key in PARTS:
+            topic = controller_state_topic(topics[key]) if key in topics else None
+            if topic is not None and topic not in self._state_topics:
+                self._state_topics.add(topic)
+                self._subscriptions.append(self._node.create_subscription(
+                    JointTrajectoryControllerState, topic, functools.partial(self.on_controller_state, key),
+                    QUEUE_DEPTH))
 
     def finish(self) -> None:
         """Where the node never answered: its log and configuration as the node would resolve them by default."""
