@@ -74,8 +74,10 @@ ros2_lane() {
   {
     wait "$kilted_setup" || { tail -n 40 "$RESULTS_DIR/ros2-kilted-setup.out"; exit 1; }
     tail -n 1 "$RESULTS_DIR/ros2-kilted-setup.out"
+    # The demo's plain run: the gesture and the conversation are Jazzy's alone (the test command keeps its time).
     CSSR_ROS2_DISTRO=kilted python3 -m pytest test/system/test_demo_ros2.py -q -p no:cacheprovider \
-      --junitxml="$RESULTS_DIR/demo-ros2-kilted.xml" > "$RESULTS_DIR/demo-ros2-kilted.out" 2>&1 &
+      -k runs_moves_within_the_bands --junitxml="$RESULTS_DIR/demo-ros2-kilted.xml" \
+      > "$RESULTS_DIR/demo-ros2-kilted.out" 2>&1 &
     kilted_demo=$!
     CSSR_ROS2_DISTRO=kilted bash tools/ros2/run.sh python3 -m pytest test/ros2/test_harness_ros2.py \
       test/ros2/test_successor_ros2.py -q -p no:cacheprovider -W ignore::DeprecationWarning \

@@ -1,6 +1,10 @@
 """Unit tests of the mode in force (core/conversation.py): the sources of the conversation, their priorities and
 time-outs, and a mode set by hand, on an injected clock."""
-from cssr_system.core.conversation import Conversation, HeardFilter, PRESENCE_PERIOD, configured_sources
+from types import SimpleNamespace
+
+from cssr_system.core.conversation import (Conversation, HeardFilter, HeardMessages, PRESENCE_PERIOD,
+                                           configured_sources)
+from cssr_system.core.events import ConversationHeard
 from conftest import default_configuration
 
 SOURCES = [("speakingTopic", "/speaking", "speaking"), ("listeningTopic", "/listening", "listening"),
@@ -80,3 +84,17 @@ def test_repeated_messages_pass_at_most_every_presence_period_and_changes_at_onc
     assert not heard.passes("speakingAction", True, 0.3 + PRESENCE_PERIOD / 2)
     assert heard.passes("speakingAction", True, 0.3 + PRESENCE_PERIOD)
     assert heard.passes("listeningTopic", True, 0.31)
+
+
+def test_heard_messages_post_a_change_at_once_and_the_same_again_only_after_the_presence_period():
+    posted = []
+    ears = HeardMessages(posted.append, active_states=(2, 3))
+
+    def status_list(*codes):  # an action's GoalStatusArray, as either front-end's watch reads it
+        return SimpleNamespace(status_list=[SimpleNamespace(status=code) for code in codes])
+    ears.bool_message(SimpleNamespace(data=True), "speakingTopic")
+    ears.bool_message(SimpleNamespace(data=True), "speakingTopic")
+    ears.status_message(status_list(4, 2), "listeningAction")
+    ears.status_message(status_list(4), "listeningAction")
+    assert posted == [ConversationHeard("speakingTopic", True), ConversationHeard("listeningAction", True),
+                      ConversationHeard("listeningAction", False)]

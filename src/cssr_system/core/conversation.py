@@ -13,9 +13,12 @@ conversation's mode changes), which puts the setting back to `auto`, or until th
 The supervisor (core/supervisor.py) owns one `Conversation` and asks it on each event and when a time-out is due
 (`next_deadline`); every method that may change the mode in force returns the `ModeChange`, or None. Pure Python.
 """
-from typing import Dict, List, NamedTuple, Optional, Tuple
+import threading
+import time
+from typing import Callable, Dict, List, NamedTuple, Optional, Tuple
 
 from cssr_system.animate_behaviour.configuration import AUTO_MODE, CONVERSATION_SOURCES, MODES, Configuration, KEYS
+from cssr_system.core.events import ConversationHeard
 
 IDLE, LISTENING, SPEAKING = MODES
 PRIORITY = (SPEAKING, LISTENING)  # the first whose source counts wins; none: IDLE
@@ -136,3 +139,30 @@ class HeardFilter:
             return False
         self._last[key] = (active, monotonic)
         return True
+
+
+class HeardMessages:
+    """What both front-ends' watches (ros1/ and ros2/conversation_watch.py) do with a source's message: a Bool's
+    value, or whether an action's status list holds a goal in one of `active_states` (the front-end's codes of a goal
+    that runs), posted to the supervisor (`post`) as `ConversationHeard` when `HeardFilter` lets it pass. The
+    client library's threads call it, in any number."""
+
+    def __init__(self, post: Callable[[object], None], active_states: Tuple[int, ...]) -> None:
+        self._post = post
+        self._active_states = active_states
+        self._filter = HeardFilter()
+        self._lock = threading.Lock()
+
+    def heard(self, key: str, active: bool) -> None:
+        with self._lock:
+            passes = self._filter.passes(key, active, time.monotonic())
+        if passes:
+            self._post(ConversationHeard(key, active))
+
+    def bool_message(self, message, key: str) -> None:
+        """A std_msgs/Bool of either front-end."""
+        self.heard(key, bool(message.data))
+
+    def status_message(self, message, key: str) -> None:
+        """An action's GoalStatusArray of either front-end."""
+        self.heard(key, any(status.status in self._active_states for status in message.status_list))

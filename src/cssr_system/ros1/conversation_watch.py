@@ -3,16 +3,14 @@ each posted to the supervisor as it speaks (core/conversation.py decides the mod
 namespace, remapped where asked (README: "Several robots"). A Bool topic's publisher still there is a sign of life
 (a latched or changes-only topic says nothing more while the robot speaks); an action's server repeats its status
 list (5 Hz by default), so only its messages are."""
-import threading
-import time
 from typing import Callable, List, Tuple
 
 import rospy
 from actionlib_msgs.msg import GoalStatus, GoalStatusArray
 from std_msgs.msg import Bool
 
-from cssr_system.core.conversation import PRESENCE_PERIOD, HeardFilter
-from cssr_system.core.events import ConversationHeard, ConversationPresent
+from cssr_system.core.conversation import PRESENCE_PERIOD, HeardMessages
+from cssr_system.core.events import ConversationPresent
 
 ACTIVE_STATES = (GoalStatus.ACTIVE, GoalStatus.PREEMPTING)  # a goal the server runs: the robot speaks (or listens)
 
@@ -23,8 +21,7 @@ class ConversationWatch:
     def __init__(self, post: Callable[[object], None], report_error: Callable[[str, Exception], None]) -> None:
         self._post = post
         self._report_error = report_error
-        self._filter = HeardFilter()
-        self._lock = threading.Lock()
+        self._heard = HeardMessages(post, ACTIVE_STATES)
         self._topics: List[Tuple[str, rospy.Subscriber]] = []  # (key, subscription) of the Bool topics
         self._subscribers = []  # kept for the node's life
         self._timer = None
@@ -36,12 +33,13 @@ class ConversationWatch:
         for key, name, means, kind in sources:
             resolved = rospy.resolve_name(name)
             if kind == "topic":
-                subscriber = rospy.Subscriber(resolved, Bool, self._guarded(self._on_bool), callback_args=key,
-                                              queue_size=10)
+                subscriber = rospy.Subscriber(resolved, Bool, self._guarded(self._heard.bool_message),
+                                              callback_args=key, queue_size=10)
                 self._topics.append((key, subscriber))
             else:
-                subscriber = rospy.Subscriber(resolved + "/status", GoalStatusArray, self._guarded(self._on_status),
-                                              callback_args=key, queue_size=1)
+                subscriber = rospy.Subscriber(resolved + "/status", GoalStatusArray,
+                                              self._guarded(self._heard.status_message), callback_args=key,
+                                              queue_size=1)
             self._subscribers.append(subscriber)
             watched.append((key, resolved, means))
         if self._topics:
@@ -55,18 +53,6 @@ class ConversationWatch:
             except Exception as error:  # one line, not rospy's traceback
                 self._report_error("watching the conversation", error)
         return guarded
-
-    def _heard(self, key: str, active: bool) -> None:
-        with self._lock:
-            passes = self._filter.passes(key, active, time.monotonic())
-        if passes:
-            self._post(ConversationHeard(key, active))
-
-    def _on_bool(self, message: Bool, key: str) -> None:
-        self._heard(key, bool(message.data))
-
-    def _on_status(self, message: GoalStatusArray, key: str) -> None:
-        self._heard(key, any(status.status in ACTIVE_STATES for status in message.status_list))
 
     def _look_for_publishers(self, event, argument=None) -> None:
         for key, subscriber in self._topics:

@@ -3,16 +3,14 @@
 (core/conversation.py decides the mode); ROS 1's twin: ros1/conversation_watch.py. Names resolve in the node's
 namespace, remapped where asked. An action's status comes at each change only (transient local), and a Bool topic
 may be published at changes only too: a publisher still on the topic is a sign of life of either."""
-import threading
-import time
 from typing import Callable, List, Tuple
 
 from action_msgs.msg import GoalStatus, GoalStatusArray
 from rclpy.qos import qos_profile_action_status_default
 from std_msgs.msg import Bool
 
-from cssr_system.core.conversation import PRESENCE_PERIOD, HeardFilter
-from cssr_system.core.events import ConversationHeard, ConversationPresent
+from cssr_system.core.conversation import PRESENCE_PERIOD, HeardMessages
+from cssr_system.core.events import ConversationPresent
 from cssr_system.ros2.rclpy_compat import ACTION_STATUS
 
 ACTIVE_STATES = (GoalStatus.STATUS_EXECUTING, GoalStatus.STATUS_CANCELING)  # the robot speaks (or listens)
@@ -26,8 +24,7 @@ class ConversationWatch:
         self._node = node
         self._post = post
         self._report_error = report_error
-        self._filter = HeardFilter()
-        self._lock = threading.Lock()
+        self._heard = HeardMessages(post, ACTIVE_STATES)
         self._topics: List[Tuple[str, str]] = []  # (key, topic) of every source: their publishers are looked for
         self._subscriptions = []  # kept for the node's life
 
@@ -39,11 +36,12 @@ class ConversationWatch:
             resolved = self._node.resolve_topic_name(name)
             if kind == "topic":
                 topic, subscription = resolved, self._node.create_subscription(
-                    Bool, resolved, self._guarded(self._on_bool, key), QUEUE_DEPTH)
+                    Bool, resolved, self._guarded(self._heard.bool_message, key), QUEUE_DEPTH)
             else:
                 topic = resolved + ACTION_STATUS
-                subscription = self._node.create_subscription(
-                    GoalStatusArray, topic, self._guarded(self._on_status, key), qos_profile_action_status_default)
+                subscription = self._node.create_subscription(GoalStatusArray, topic,
+                                                              self._guarded(self._heard.status_message, key),
+                                                              qos_profile_action_status_default)
             self._subscriptions.append(subscription)
             self._topics.append((key, topic))
             watched.append((key, resolved, means))
@@ -58,18 +56,6 @@ class ConversationWatch:
             except Exception as error:  # one line, not rclpy's traceback
                 self._report_error("watching the conversation", error)
         return guarded
-
-    def _heard(self, key: str, active: bool) -> None:
-        with self._lock:
-            passes = self._filter.passes(key, active, time.monotonic())
-        if passes:
-            self._post(ConversationHeard(key, active))
-
-    def _on_bool(self, message: Bool, key: str) -> None:
-        self._heard(key, bool(message.data))
-
-    def _on_status(self, message: GoalStatusArray, key: str) -> None:
-        self._heard(key, any(status.status in ACTIVE_STATES for status in message.status_list))
 
     def _look_for_publishers(self, message, key) -> None:
         for source, topic in self._topics:
