@@ -77,3 +77,49 @@ def test_a_status_list_that_comes_during_a_send_waits_until_the_goal_has_left():
     thread.join(5.0)
     assert order == ["sent", "ForeignGoal"]
     assert goals.send_unless_foreign(ACTION, lambda: order.append("sent again")) == "g1"
+
+
+class Clock:
+    def __init__(self) -> None:
+        self.now = 100.0
+
+    def __call__(self) -> float:
+        return self.now
+
+
+def test_a_goal_told_on_its_way_runs_at_once_and_ends_with_the_list_that_shows_its_end():
+    posted, clock = [], Clock()
+    goals = ForeignGoals(posted.append, clock)
+    goals.goal_sent(ACTION, "g1", lambda goal_id: "/gestureExecution")
+    assert posted == [ForeignGoal(ACTION, "g1", "/gestureExecution", None)]
+    assert goals.send_unless_foreign(ACTION, lambda: posted.append("sent")) == "g1", "the last look sees it"
+    clock.now += 0.01
+    goals.status_list(ACTION, [], lambda goal_id: "a client")  # a list made before the server took it
+    goals.status_list(ACTION, [("g1", True)], lambda goal_id: "a client")  # then listed: no second start
+    goals.goal_sent(ACTION, "g1", lambda goal_id: "a client")  # the same goal again (a latched topic, say)
+    assert posted == [ForeignGoal(ACTION, "g1", "/gestureExecution", None)]
+    goals.status_list(ACTION, [("g1", False)], lambda goal_id: "a client")
+    assert posted[1:] == [ForeignResult(ACTION, "g1")]
+    assert goals.send_unless_foreign(ACTION, lambda: posted.append("sent")) is None and posted[-1] == "sent"
+
+
+def test_a_goal_told_on_its_way_that_no_list_names_within_the_grace_has_ended():
+    from cssr_system.core.foreign_goals import UNLISTED_GRACE
+    posted, clock = [], Clock()
+    goals = ForeignGoals(posted.append, clock)
+    goals.goal_sent(ACTION, "g1", lambda goal_id: "a client")
+    clock.now += UNLISTED_GRACE - 0.01
+    goals.status_list(ACTION, [], lambda goal_id: "a client")
+    assert posted == [ForeignGoal(ACTION, "g1", "a client", None)]
+    clock.now += 0.02
+    goals.status_list(ACTION, [], lambda goal_id: "a client")
+    assert posted[1:] == [ForeignResult(ACTION, "g1")]
+
+
+def test_a_goal_already_listed_or_without_an_id_is_not_told_again_on_its_way():
+    posted = []
+    goals = ForeignGoals(posted.append, Clock())
+    goals.status_list(ACTION, [("g1", False)], lambda goal_id: "a client")  # the first list: old news
+    goals.goal_sent(ACTION, "g1", lambda goal_id: "a client")
+    goals.goal_sent(ACTION, "", lambda goal_id: "a client")
+    assert posted == []

@@ -54,6 +54,19 @@ def test_a_goal_that_leaves_the_status_list_has_ended():
     assert posted == [ForeignGoal(ACTION, "/teleop-1-2.0", "/teleop", None), ForeignResult(ACTION, "/teleop-1-2.0")]
 
 
+def test_another_clients_goal_is_posted_from_the_goal_topic_before_the_server_lists_it_and_ours_never():
+    from control_msgs.msg import FollowJointTrajectoryActionGoal
+    watch, posted = make_watch()
+    gesture, ours = FollowJointTrajectoryActionGoal(), FollowJointTrajectoryActionGoal()
+    gesture.goal_id.id, ours.goal_id.id = "/gestureExecution-3-5.0", "/animateBehaviour-7-5.0"
+    watch._on_goal(ours, ACTION)
+    watch._on_goal(gesture, ACTION)
+    assert posted == [ForeignGoal(ACTION, gesture.goal_id.id, "/gestureExecution", None)]
+    watch._on_status(status_array((gesture.goal_id.id, GoalStatus.ACTIVE)), ACTION)
+    watch._on_status(status_array((gesture.goal_id.id, GoalStatus.SUCCEEDED)), ACTION)
+    assert posted[1:] == [ForeignResult(ACTION, gesture.goal_id.id)]
+
+
 def test_a_goal_first_seen_ended_is_not_a_motion():
     watch, posted = make_watch()
     watch._on_status(status_array(("/teleop-1-2.0", GoalStatus.SUCCEEDED)), ACTION)

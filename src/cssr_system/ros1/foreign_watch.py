@@ -1,11 +1,13 @@
 """Subscriptions that notice other nodes' commands on our controllers and on the base topic, and post them
 to the supervisor as events (README: "Sharing the robot").
 
-Goals: every action server publishes ``<action>/status``, the list of every client's goals with their states,
-at each change and a few times a second. The node's action clients receive it anyway, and rospy shares one
-connection per topic inside a node, so watching it costs no connection and no thread (a subscription to
-``<action>/goal`` would cost two threads per controller and the deserialization of every goal). actionlib
-starts each goal id with its client's node name, which tells whose goal it is. Trajectories on a
+Goals: every client's goals travel on ``<action>/goal``, and the node takes each of them there as the controller
+does, before the controller has accepted it (core/foreign_goals.py: `goal_sent`), so that its last look before a
+goal of ours leaves sees another client's goal as early as the controller does (doc/performance.md: "Another node's
+goal and our next one"). It costs a thread per publisher of the topic and the reading of every goal, our own
+included. Every action server also publishes ``<action>/status``, the list of every client's goals with their
+states, at each change and a few times a second, which tells when each goal ends. actionlib starts each goal id with
+its client's node name, which tells whose goal it is. Trajectories on a
 controller's ``command`` topic, Twists on the base topic and setAngles calls on naoqi_driver's JointAngles topic
 are watched directly; this node's own Twists and calls are recognised by their caller id."""
 from typing import Callable, Optional, Sequence
@@ -13,6 +15,7 @@ from typing import Callable, Optional, Sequence
 import numpy
 import rospy
 from actionlib_msgs.msg import GoalStatus, GoalStatusArray
+from control_msgs.msg import FollowJointTrajectoryActionGoal
 from geometry_msgs.msg import Twist
 from naoqi_bridge_msgs.msg import JointAnglesWithSpeed
 from trajectory_msgs.msg import JointTrajectory
@@ -49,6 +52,8 @@ class ForeignCommandWatch:
 
     def watch_controller(self, action: str) -> None:
         self._subscribers += [
+            rospy.Subscriber(action + "/goal", FollowJointTrajectoryActionGoal, self._guarded(self._on_goal),
+                             callback_args=action, queue_size=10),
             rospy.Subscriber(action + "/status", GoalStatusArray, self._guarded(self._on_status), callback_args=action),
             rospy.Subscriber(command_topic(action), JointTrajectory, self._guarded(self._on_command),
                              callback_args=action, queue_size=10)]
@@ -80,6 +85,10 @@ class ForeignCommandWatch:
         self.goals.status_list(action, ((status.goal_id.id, status.status in RUNNING_STATES)
                                         for status in message.status_list
                                         if not status.goal_id.id.startswith(self._own_prefix)), caller_of_goal)
+
+    def _on_goal(self, message: FollowJointTrajectoryActionGoal, action: str) -> None:
+        if not message.goal_id.id.startswith(self._own_prefix):
+            self.goals.goal_sent(action, message.goal_id.id, caller_of_goal)
 
     def _on_command(self, message: JointTrajectory, action: str) -> None:
         caller = caller_of(message)
