@@ -29,8 +29,8 @@ soak:
 	$(foreach option,$(SOAK_OPTIONS),$(if $(filter command line,$(origin $(option))),SOAK_$(option)='$(subst ','\'',$($(option)))')) \
 	bash tools/soak.sh
 
-# make gesture-race ROS=1|2 GESTURES=100 STYLE=random|breathing SEED=1 (or RACE_ROS, ...): doc/soak.md.
-RACE_OPTIONS := ROS GESTURES STYLE SEED
+# make gesture-race ROS=1|2 GESTURES=100 STYLE=random|breathing SEED=1 RESEND=1 (or RACE_ROS, ...): doc/soak.md.
+RACE_OPTIONS := ROS GESTURES STYLE SEED RESEND
 gesture-race:
 	$(foreach option,$(RACE_OPTIONS),$(if $(filter command line,$(origin $(option))),RACE_$(option)='$(subst ','\'',$($(option)))')) \
 	bash tools/gesture_race.sh

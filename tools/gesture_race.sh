@@ -3,7 +3,8 @@
 # (doc/soak.md, "The gesture race"); exit status 0 when every gesture SUCCEEDED, 1 when one did not.
 #   RACE_ROS (1 or 2, default 1; 2 exits 3 where no Python suits the ROS 2 wheels), RACE_GESTURES (in all, default
 #   100), RACE_STYLE (random or breathing, default random), RACE_SEED (default 1), RACE_FOLDER (the run's files,
-#   default <workspace>/gesture-race/rosN-STYLE), RACE_JSON (its result, default <folder>.json).
+#   default <workspace>/gesture-race/rosN-STYLE), RACE_JSON (its result, default <folder>.json), RACE_RESEND (1: a
+#   gesture that did not succeed is sent again at once; the exit status then judges the resent ones).
 set -euo pipefail
 source "$(dirname "$0")/common.sh"
 cd "$REPO_DIR"
@@ -15,6 +16,7 @@ json=${RACE_JSON:-$folder.json}
 rm -rf "$folder"
 mkdir -p "$folder" "$(dirname "$json")"
 options=(--gestures "${RACE_GESTURES:-100}" --style "$style" --seed "${RACE_SEED:-1}" --folder "$folder" --json "$json")
+if [ "${RACE_RESEND:-0}" = 1 ]; then options+=(--resend); fi
 case $ros in
   1) python3 -m cssr_system.ros1.gesture_race "${options[@]}" ;;
   2) setup=0

@@ -17,6 +17,7 @@ from typing import Callable, Dict, Iterable, List, Optional, Sequence, Tuple
 from cssr_system.pepper.joint_table import PARTS
 from cssr_system.soak.processes import BUSY
 
+NEAR = 0.02  # s: a gesture accepted this close after the node's goal start counts as "just after" it
 AIM = 0.1  # s either side of the node's predicted next goal boundary that an aimed gesture leaves in
 GESTURE_DURATION = 0.8  # s
 RESUMED_STARTS = 2  # the node's goals that start on a part after a gesture's end before the next gesture is timed
@@ -35,8 +36,11 @@ def gesture_points(part: str, duration: float = GESTURE_DURATION) -> List[Tuple[
 
 
 class Gesture:
-    def __init__(self, part: str, aimed: bool, sent_at: float, aim_offset: Optional[float]) -> None:
-        self.part, self.aimed, self.sent_at, self.aim_offset = part, aimed, sent_at, aim_offset
+    """`resent`: sent again at once because the first try did not succeed (the README's advice to another node)."""
+
+    def __init__(self, part: str, aimed: bool, sent_at: float, aim_offset: Optional[float],
+                 resent: bool = False) -> None:
+        self.part, self.aimed, self.sent_at, self.aim_offset, self.resent = part, aimed, sent_at, aim_offset, resent
         self.accepted_at: Optional[float] = None  # first seen running on the controller's status
         self.state: Optional[str] = None  # its end; None: none came
         self.ended_at: Optional[float] = None
@@ -84,10 +88,11 @@ class PartRace:
 
 
 def play(race: PartRace, count: int, send: Callable[[str], None], rng: random.Random,
-         clock: Callable[[], float] = time.monotonic, stop: Optional[threading.Event] = None) -> None:
+         clock: Callable[[], float] = time.monotonic, stop: Optional[threading.Event] = None,
+         resend: bool = False) -> None:
     """`count` gestures on `race`'s part, one at a time: each once the node animates the part again (RESUMED_STARTS
     of its goals started since the last gesture's end), aimed or not in turn; `send(part)` sends one, whose end
-    comes to `race.ended`."""
+    comes to `race.ended`. `resend`: a gesture that did not succeed is sent again at once, once."""
     stop = stop or threading.Event()
     for number in range(count):
         starts = len(race.node_starts)
@@ -101,6 +106,10 @@ def play(race: PartRace, count: int, send: Callable[[str], None], rng: random.Ra
         race.begin(Gesture(race.part, aimed, clock(), offset))
         send(race.part)
         race.wait_for(lambda: race.gestures[-1].state is not None, GESTURE_DURATION + WAIT)
+        if resend and race.gestures[-1].state != SUCCEEDED:
+            race.begin(Gesture(race.part, aimed, clock(), offset, resent=True))
+            send(race.part)
+            race.wait_for(lambda: race.gestures[-1].state is not None, GESTURE_DURATION + WAIT)
 
 
 def intervals(race: PartRace) -> List[Tuple[Gesture, Optional[float], Optional[float]]]:
@@ -122,22 +131,37 @@ def summary(races: Sequence[PartRace]) -> Dict[str, object]:
     """The race's figures: gestures sent and lost (ending other than SUCCEEDED, or not at all), by state and by
     part; the smallest interval from a gesture's acceptance to the node's next goal on that part; the aimed
     gestures' offsets from the predicted boundary."""
-    rows = [row for race in races for row in intervals(race)]
+    every = [row for race in races for row in intervals(race)]
+    rows = [row for row in every if not row[0].resent]
+    resent = [gesture for gesture, _, _ in every if gesture.resent]
     lost = [gesture for gesture, _, _ in rows if gesture.state != SUCCEEDED]
     next_goals = [after for _, _, after in rows if after is not None]
     offsets = [gesture.aim_offset for gesture, _, _ in rows if gesture.aim_offset is not None]
+    just_after = sum(before is not None and before <= NEAR for _, before, _ in rows)
+    ways = sorted(gesture.accepted_at - gesture.sent_at for gesture, _, _ in rows if gesture.accepted_at is not None)
     states: Dict[str, int] = {}
     for gesture in lost:
         states[str(gesture.state)] = states.get(str(gesture.state), 0) + 1
-    return {"gestures": len(rows), "lost": len(lost), "lost by state": states,
+    return {"gestures": len(rows), "lost": len(lost), "lost by state": states, "resent": len(resent),
+            "lost when resent": sum(gesture.state != SUCCEEDED for gesture in resent),
             "by part": {race.part: len(race.gestures) for race in races},
             "aimed": len(offsets), "aimed within 20 ms of the boundary": sum(abs(value) <= 0.02 for value in offsets),
             "smallest acceptance to our next goal, s": round(min(next_goals), 4) if next_goals else None,
             "smallest our last goal to acceptance, s": round(min(before for _, before, _ in rows
                                                                  if before is not None), 4)
             if any(before is not None for _, before, _ in rows) else None,
+            "sent to seen running, ms": {"median": milliseconds(ways, 0.5), "99%": milliseconds(ways, 0.99),
+                                         "largest": milliseconds(ways, 1.0)},
+            "accepted within 20 ms after the node's goal start": just_after,
             "lost gestures": [{"part": gesture.part, "state": gesture.state, "aimed": gesture.aimed,
-                               "offset": gesture.aim_offset} for gesture in lost]}
+                               "offset": gesture.aim_offset} for gesture in lost],
+            "every gesture": [[gesture.part, gesture.state, gesture.aim_offset, before, after, gesture.resent]
+                              for gesture, before, after in every]}
+
+
+def milliseconds(values: Sequence[float], fraction: float) -> Optional[float]:
+    """The value at `fraction` of the sorted `values`, in ms (None: no values)."""
+    return round(1000.0 * values[min(len(values) - 1, int(fraction * len(values)))], 1) if values else None
 
 
 def text(result: Dict[str, object]) -> str:
@@ -148,20 +172,25 @@ def text(result: Dict[str, object]) -> str:
                  result["aimed"], result["aimed within 20 ms of the boundary"]),
              "smallest interval from a gesture's acceptance to the node's next goal on that part: %s s" %
              result["smallest acceptance to our next goal, s"],
-             "smallest interval from the node's last goal to a gesture's acceptance: %s s" %
-             result["smallest our last goal to acceptance, s"],
+             "smallest interval from the node's last goal to a gesture's acceptance: %s s (%d within 20 ms)" % (
+                 result["smallest our last goal to acceptance, s"],
+                 result["accepted within 20 ms after the node's goal start"]),
+             "from a gesture's send to the race seeing it running on the status: %s ms" % ", ".join(
+                 "%s %s" % item for item in result["sent to seen running, ms"].items()),
              "foreign gestures lost: %d" % result["lost"]]
+    if result["resent"]:
+        lines.append("resent at once: %d, of which lost again: %d" % (result["resent"], result["lost when resent"]))
     return "\n".join(lines)
 
 
 def run_parts(parts: Sequence[str], count: int, send: Callable[[str], None], races: Dict[str, PartRace],
-              seed: int = 1) -> Dict[str, object]:
+              seed: int = 1, resend: bool = False) -> Dict[str, object]:
     """`count` gestures in all, spread over `parts` (a thread each, side by side), then the summary."""
     threads = []
     for index, part in enumerate(parts):
         share = count // len(parts) + (1 if index < count % len(parts) else 0)
         thread = threading.Thread(target=play, args=(races[part], share, send, random.Random(seed * 100 + index)),
-                                  name="gestures " + part, daemon=True)
+                                  kwargs=dict(resend=resend), name="gestures " + part, daemon=True)
         thread.start()
         threads.append(thread)
     for thread in threads:
@@ -175,6 +204,8 @@ def arguments(argv: List[str]) -> argparse.Namespace:
     parser.add_argument("--style", choices=("random", "breathing"), default="random", help="the node's motionStyle")
     parser.add_argument("--parts", default=",".join(RACE_PARTS), help="the parts that get gestures")
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--resend", action="store_true",
+                        help="send a gesture that did not succeed again at once (README: \"Sharing the robot\")")
     parser.add_argument("--folder", required=True, help="the run's folder: output of every process, the log")
     parser.add_argument("--json", required=True, help="the run's result")
     return parser.parse_args(argv)
@@ -200,7 +231,7 @@ def run(driver, options: argparse.Namespace, ros: str) -> int:
     started = time.monotonic()
     driver.start(parts)
     driver.activate("enabled")
-    result = run_parts(parts, options.gestures, driver.send, driver.races, options.seed)
+    result = run_parts(parts, options.gestures, driver.send, driver.races, options.seed, options.resend)
     driver.activate("disabled")
     result.update(ros=ros, style=options.style, minutes=round((time.monotonic() - started) / 60.0, 2),
                   load=os.getloadavg()[0], cores=os.cpu_count(),
@@ -209,4 +240,4 @@ def run(driver, options: argparse.Namespace, ros: str) -> int:
         json.dump(result, output, indent=1)
     print("ROS %s, style %s: %s\nthe node's goals withheld by its last look: %d" % (
         ros, options.style, text(result), result["withheld"]), flush=True)
-    return 0 if result["lost"] == 0 else 1
+    return 0 if result["lost when resent" if options.resend else "lost"] == 0 else 1
