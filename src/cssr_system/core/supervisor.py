@@ -12,12 +12,12 @@ import threading
 from typing import Callable, Dict, List, Optional, Tuple
 
 from cssr_system.animate_behaviour import contract
-from cssr_system.animate_behaviour.configuration import TRAJECTORY_ACTUATION, Configuration, configuration_items
+from cssr_system.animate_behaviour.configuration import (AUTO_MODE, TRAJECTORY_ACTUATION, Configuration,
+                                                         configuration_items)
 from cssr_system.animate_behaviour.console import console, set_verbose
 from cssr_system.animate_behaviour.contract import NODE_NAME
 from cssr_system.animate_behaviour.live_settings import changed_settings
 from cssr_system.animate_behaviour.topics import WHEELS_KEY
-from cssr_system.animate_behaviour.configuration import AUTO_MODE
 from cssr_system.core.base_stream import BaseStream
 from cssr_system.core.conversation import Conversation, ModeChange
 from cssr_system.core.events import (AnimateCancel, AnimateGoal, ControllerConnected, ControllerLost,
@@ -26,8 +26,8 @@ from cssr_system.core.events import (AnimateCancel, AnimateGoal, ControllerConne
                                      Reconfigure, Shutdown)
 from cssr_system.core.foreign_motion import GOAL, JOINT_ANGLES
 from cssr_system.core.joint_states import FeedState
-from cssr_system.core.part_stream import PartStream
 from cssr_system.core.motion_stream import StreamState
+from cssr_system.core.part_stream import PartStream
 from cssr_system.core.session import CANCELLED, DISABLED, DURATION_ELAPSED, HOMED, REPLACED, Session, starts_return
 from cssr_system.core.status import part_rows
 from cssr_system.figure.clearance import close_hand_warnings
