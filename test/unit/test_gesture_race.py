@@ -76,4 +76,5 @@ def test_with_resend_a_lost_gesture_is_sent_again_at_once_and_counted_apart():
         ("PREEMPTED", False), ("SUCCEEDED", True), ("SUCCEEDED", False)]
     result = summary([race])
     assert (result["gestures"], result["lost"], result["resent"], result["lost when resent"]) == (2, 1, 1, 0)
+    assert result["by part"] == {"RArm": 2}
     assert "resent at once: 1, of which lost again: 0" in text(result)

@@ -144,7 +144,7 @@ def summary(races: Sequence[PartRace]) -> Dict[str, object]:
         states[str(gesture.state)] = states.get(str(gesture.state), 0) + 1
     return {"gestures": len(rows), "lost": len(lost), "lost by state": states, "resent": len(resent),
             "lost when resent": sum(gesture.state != SUCCEEDED for gesture in resent),
-            "by part": {race.part: len(race.gestures) for race in races},
+            "by part": {race.part: sum(not gesture.resent for gesture in race.gestures) for race in races},
             "aimed": len(offsets), "aimed within 20 ms of the boundary": sum(abs(value) <= 0.02 for value in offsets),
             "smallest acceptance to our next goal, s": round(min(next_goals), 4) if next_goals else None,
             "smallest our last goal to acceptance, s": round(min(before for _, before, _ in rows
