@@ -78,3 +78,19 @@ def test_with_resend_a_lost_gesture_is_sent_again_at_once_and_counted_apart():
     assert (result["gestures"], result["lost"], result["resent"], result["lost when resent"]) == (2, 1, 1, 0)
     assert result["by part"] == {"RArm": 2}
     assert "resent at once: 1, of which lost again: 0" in text(result)
+
+
+def test_the_period_for_an_aim_is_the_latest_interval_with_no_gesture_between_the_goals():
+    race = PartRace("Leg")
+    assert race.period() == 1.0, "no interval yet"
+    race.status_list(0.0, ["node-1"], False)
+    race.status_list(16.0, ["node-2"], False)
+    assert race.period() == 16.0
+    race.begin(Gesture("Leg", True, 17.0, 0.0))
+    race.status_list(17.01, [], True)
+    race.status_list(17.02, ["node-3"], True)  # a goal of the node's that starts while the gesture is in flight
+    race.ended("PREEMPTED", 17.03)
+    race.status_list(19.5, ["node-4"], False)  # the first goal after the gesture's end
+    assert race.period() == 16.0, "the intervals across the gesture are not the node's period"
+    race.status_list(35.0, ["node-5"], False)
+    assert race.period() == 15.5

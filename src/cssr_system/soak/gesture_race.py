@@ -20,10 +20,10 @@ from cssr_system.soak.processes import BUSY
 NEAR = 0.02  # s: a gesture accepted this close after the node's goal start counts as "just after" it
 AIM = 0.1  # s either side of the node's predicted next goal boundary that an aimed gesture leaves in
 GESTURE_DURATION = 0.8  # s
-RESUMED_STARTS = 2  # the node's goals that start on a part after a gesture's end before the next gesture is timed
+RESUMED_STARTS = 1  # the node's goals that start on a part after a gesture's end before the next gesture is timed
 WAIT = 40.0  # s at most for the node's goals to start (a breath takes seconds), or for a gesture's end
 SUCCEEDED = "SUCCEEDED"
-PERIOD_BOUNDS = (0.2, 3.0)  # s: the node's goal period taken for a prediction, clamped
+PERIOD_BOUNDS = (0.2, 20.0)  # s: the node's goal period taken for a prediction, clamped (a breathing goal: ~16 s)
 RACE_PARTS = ("RArm", "LArm", "RHand", "LHand", "Leg")
 QUIET_TIME = 0.5  # s: the node's yieldQuietTime in the race
 
@@ -53,6 +53,7 @@ class PartRace:
         self.part = part
         self.node_starts: List[float] = []
         self.gestures: List[Gesture] = []
+        self._regular: Optional[float] = None  # the latest interval between two of the node's goals, no gesture between
         self._node_seen: set = set()
         self._changed = threading.Condition()
 
@@ -62,11 +63,18 @@ class PartRace:
             for goal_id in node_running:
                 if goal_id not in self._node_seen:
                     self._node_seen.add(goal_id)
-                    self.node_starts.append(now)
+                    self._note_start(now)
             current = self.gestures[-1] if self.gestures else None
             if gesture_running and current is not None and current.accepted_at is None:
                 current.accepted_at = now
             self._changed.notify_all()
+
+    def _note_start(self, now: float) -> None:
+        latest = self.node_starts[-1] if self.node_starts else None
+        ended = self.gestures[-1].ended_at if self.gestures else None
+        if latest is not None and (not self.gestures or (ended is not None and ended < latest)):
+            self._regular = now - latest
+        self.node_starts.append(now)
 
     def begin(self, gesture: Gesture) -> None:
         with self._changed:
@@ -82,8 +90,10 @@ class PartRace:
             return self._changed.wait_for(condition, timeout)
 
     def period(self) -> float:
-        starts = self.node_starts[-2:]
-        period = starts[1] - starts[0] if len(starts) == 2 else 1.0
+        """The node's goal period on the part, for a prediction: the latest interval between two of its goals with
+        no gesture between them (the first goal after a gesture may differ), else 1 s."""
+        with self._changed:
+            period = 1.0 if self._regular is None else self._regular
         return min(max(period, PERIOD_BOUNDS[0]), PERIOD_BOUNDS[1])
 
 
