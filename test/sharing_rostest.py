@@ -161,9 +161,17 @@ class SharingTest(unittest.TestCase):
             self.assertLessEqual(numpy.max(numpy.abs(accelerations)), JUMP_ACCELERATION,
                                  "%s velocity jumps after resuming" % name)
 
-    def log_events(self, event, since_wall):
-        entries = read_log(rospy.get_param("/animateBehaviour/logFile"))
-        return [e for e in entries if e.event == event and e.timestamp.timestamp() >= since_wall]
+    def log_events(self, event, since_wall, part=None, wait=0.0):
+        """The log's `event` entries since `since_wall` (of `part`, if given); `wait`: seconds to wait for one, as the
+        node's log is written by a thread of its own, after the goals that the test has seen already."""
+        deadline = time.monotonic() + wait
+        while True:
+            entries = [e for e in read_log(rospy.get_param("/animateBehaviour/logFile"))
+                       if e.event == event and e.timestamp.timestamp() >= since_wall
+                       and (part is None or e.fields.get("part") == part)]
+            if entries or time.monotonic() >= deadline:
+                return entries
+            time.sleep(0.05)
 
     # -- joints -----------------------------------------------------------------------------------
     def test_gesture_goal_runs_to_its_end_and_the_part_resumes(self):
@@ -187,10 +195,10 @@ class SharingTest(unittest.TestCase):
         self.assertLessEqual(resumed - ended, QUIET_TIME + RESUME_MARGIN)
         self.assertGreaterEqual(resumed - ended, QUIET_TIME - 0.2, "a quiet time before resuming")
         self.assert_smooth_resume(GESTURE_PART, resumed)
-        yielded = [e.fields for e in self.log_events(contract.PART_YIELDED, since_wall)
-                   if e.fields["part"] == GESTURE_PART]
-        resumed_entries = [e.fields for e in self.log_events(contract.PART_RESUMED, since_wall)
-                           if e.fields["part"] == GESTURE_PART]
+        yielded = [e.fields for e in self.log_events(contract.PART_YIELDED, since_wall, GESTURE_PART, wait=2.0)]
+        resumed_entries = [e.fields for e in self.log_events(contract.PART_RESUMED, since_wall, GESTURE_PART,
+                                                             wait=2.0)]
+        self.assertTrue(yielded and resumed_entries, "the yield and the resume are in the log")
         self.assertEqual(yielded[0]["caller"], rospy.get_caller_id())
         self.assertGreater(resumed_entries[0]["seconds"], 4.0)
 
