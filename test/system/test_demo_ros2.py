@@ -18,6 +18,9 @@ REPO_DIR = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 DEMO_DURATION = 6
 SETUP_TIMEOUT = 1800  # s: the first set-up builds the interface packages (minutes); later ones take seconds
 RUN_TIMEOUT = 120  # s for one run; a plain one takes about 20
+# s after the enable by which the commanded lines have begun: 20 to 45 ms in a run alone, but under make test's load
+# the recorder's first controller states came seconds late twice (all parts at once)
+COMMANDED_START = 3.0
 # The demos' ROS 2 domain: one that test/ros2, which make test runs beside the system tests, never uses (its modules
 # take theirs from 1-100). A free one, as the demo picks by default, may be taken by a test's nodes a moment later.
 # On Kilted (CSSR_ROS2_DISTRO=kilted) make test runs this module after test/ros2, beside the system tests (this
@@ -91,8 +94,8 @@ def test_the_ros2_demo_runs_moves_within_the_bands_of_the_log_and_plots(ros2_env
     assert {"RShoulderPitch", "LShoulderPitch", "HipPitch"} <= set(commanded.joint_names)
     before = commanded.times < enabled_at - 0.5  # the log stamps the enable when the node replies
     assert numpy.any(before) and numpy.all(numpy.isnan(commanded.positions[before]))
-    after = commanded.times > enabled_at + 0.5
-    assert numpy.all(numpy.isfinite(commanded.positions[after]))
+    after = commanded.times > enabled_at + COMMANDED_START
+    assert numpy.any(after) and numpy.all(numpy.isfinite(commanded.positions[after]))
     # The simulated Pepper reports the commanded motion (velocity_report commanded): the lines lie on the joints.
     columns = [recording.joint_names.index(name) for name in commanded.joint_names]
     assert numpy.max(numpy.abs(commanded.positions[after] - recording.positions[after][:, columns])) < 0.005
@@ -138,6 +141,6 @@ def test_the_ros2_demo_with_a_gesture_in_a_conversation_yields_to_it_and_it_succ
     assert numpy.all(numpy.isnan(commanded.positions[during, right]))
     assert numpy.all(numpy.isfinite(commanded.positions[during, left]))
     # Before the gesture the right arm was animated: its commanded line runs over the last 2.5 s before the mark (its
-    # first seconds were missing once under make test's load, never in a run alone).
+    # first seconds may be missing under load: COMMANDED_START).
     assert numpy.all(numpy.isfinite(commanded.positions[(commanded.times > mark.start - 2.5)
                                                         & (commanded.times < mark.start - 0.1), right]))
