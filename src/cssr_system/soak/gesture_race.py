@@ -20,7 +20,7 @@ from cssr_system.soak.processes import BUSY
 NEAR = 0.02  # s: a gesture accepted this close after the node's goal start counts as "just after" it
 AIM = 0.1  # s either side of the node's predicted next goal boundary that an aimed gesture leaves in
 GESTURE_DURATION = 0.8  # s
-RESUMED_STARTS = 1  # the node's goals that start on a part after a gesture's end before the next gesture is timed
+RESUMED_STARTS = 2  # the node's goals that start on a part after a gesture's end before the next gesture is timed
 WAIT = 40.0  # s at most for the node's goals to start (a breath takes seconds), or for a gesture's end
 SUCCEEDED = "SUCCEEDED"
 PERIOD_BOUNDS = (0.2, 20.0)  # s: the node's goal period taken for a prediction, clamped (a breathing goal: ~16 s)
