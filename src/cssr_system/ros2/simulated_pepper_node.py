@@ -477,6 +477,8 @@ class SimulatedPepperNode:
     # -- update loop -----------------------------------------------------------------------------
     def on_tick(self) -> None:
         with self._lock:
+            if self._closing:
+                return  # closed: no more updates
             now = self._now()
             ended = self.model.update(now)
             joints = self.model.joint_state(now)
@@ -527,8 +529,9 @@ class SimulatedPepperNode:
             goal.handle.publish_feedback(feedback)
 
     def close(self) -> None:
-        """Stop updating and end every goal still running (aborted), so no execute callback keeps waiting."""
-        self.timer.cancel()
+        """Stop updating and end every goal still running (aborted), so no execute callback keeps waiting. The update
+        timer is not cancelled: cancelled from this thread while the executor takes it, rcl's timer call fails in the
+        executor ("timer is canceled", a traceback at SIGINT); once closed, each update returns at once."""
         with self._lock:
             self._closing = True
             goals = list(self._goals.values())
