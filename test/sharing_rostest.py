@@ -195,9 +195,9 @@ class SharingTest(unittest.TestCase):
         self.assertLessEqual(resumed - ended, QUIET_TIME + RESUME_MARGIN)
         self.assertGreaterEqual(resumed - ended, QUIET_TIME - 0.2, "a quiet time before resuming")
         self.assert_smooth_resume(GESTURE_PART, resumed)
-        yielded = [e.fields for e in self.log_events(contract.PART_YIELDED, since_wall, GESTURE_PART, wait=2.0)]
+        yielded = [e.fields for e in self.log_events(contract.PART_YIELDED, since_wall, GESTURE_PART, wait=5.0)]
         resumed_entries = [e.fields for e in self.log_events(contract.PART_RESUMED, since_wall, GESTURE_PART,
-                                                             wait=2.0)]
+                                                             wait=5.0)]
         self.assertTrue(yielded and resumed_entries, "the yield and the resume are in the log")
         self.assertEqual(yielded[0]["caller"], rospy.get_caller_id())
         self.assertGreater(resumed_entries[0]["seconds"], 4.0)

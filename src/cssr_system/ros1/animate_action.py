@@ -5,6 +5,7 @@ the robot alive for a while, or until cancelled, with given settings.
 unusable configuration is rejected with the reason) and post events to the supervisor, which decides everything
 else through `core.session.Session`. Only the supervisor thread ends goals and publishes feedback.
 """
+import functools
 from typing import Callable
 
 import actionlib
@@ -15,7 +16,7 @@ from cssr_system.animate_behaviour.contract import ANIMATE_ACTION, NODE_NAME, ST
 from cssr_system.core.events import AnimateCancel, AnimateGoal
 from cssr_system.core.session import GoalRefused, checked_goal, goal_mode
 from cssr_system.msg import AnimateAction, AnimateFeedback, AnimateResult
-from cssr_system.ros1.rospy_compat import caller_of_goal
+from cssr_system.ros1.rospy_compat import caller_of_goal, quiet_at_shutdown
 from cssr_system.ros1.status import part_statuses
 
 STATUS_FREQUENCY = 1.0  # Hz of the action's status between changes
@@ -38,6 +39,8 @@ class AnimateActionServer:
                                               goal_cb=self._on_goal, cancel_cb=self._on_cancel, auto_start=False)
 
     def start(self) -> None:
+        # actionlib's status timer may fire while rospy closes the topics at shutdown: quiet then.
+        self._server.publish_status_async = functools.partial(quiet_at_shutdown, self._server.publish_status_async)
         self._server.start()
 
     def _on_goal(self, handle) -> None:

@@ -68,6 +68,7 @@ from cssr_system.pepper.simulated_pepper import (CONTROL_RATE, GOAL_TIME, MEASUR
                                                  check_loop_settings, describe_violations, fill_state_messages,
                                                  odometry_topic, parse_initial_positions, DRIVERS, IDEAL,
                                                  NAOQI_DRIVER)
+from cssr_system.ros1.rospy_compat import quiet_at_shutdown
 
 NODE_NAME = "simulatedPepper"
 UPDATE_RATE = 50.0  # Hz: stepping the model (its control loop catches up), /joint_states and odometry
@@ -295,15 +296,6 @@ class SimulatedPepperNode:
                     **{name: JointTrajectoryPoint(**point) for name, point in update.feedback_points().items()})
                 feedback.header.stamp = rospy.Time.from_sec(update.time + self._epoch)
                 goal_handle.publish_feedback(feedback)
-
-
-def quiet_at_shutdown(callback, event) -> None:
-    """A timer's `callback`; publishing to a closed topic is expected only at shutdown, and then ignored."""
-    try:
-        callback(event)
-    except rospy.ROSException:
-        if not rospy.core.is_shutdown_requested():
-            raise
 
 
 def loop_parameters() -> Optional[Dict[str, Any]]:
